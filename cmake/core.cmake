@@ -1,0 +1,15 @@
+# The ROS-free core: Eigen only, no roscpp, no PCL.
+add_library(ring_curvature_core
+  src/core/types.cpp
+  src/core/params.cpp
+  src/core/scan_grid.cpp
+  src/core/features.cpp
+  src/core/classifier.cpp
+  src/core/primitives.cpp
+  src/core/pipeline.cpp)
+target_include_directories(ring_curvature_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
+target_compile_options(ring_curvature_core PRIVATE ${RC_WARNINGS})
+install(TARGETS ring_curvature_core
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})

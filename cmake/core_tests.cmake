@@ -1,0 +1,12 @@
+# gtest on the ROS-free core alone (test/core/*.cpp, one binary per file).
+if(CATKIN_ENABLE_TESTING)
+  file(GLOB RC_CORE_TESTS ${CMAKE_CURRENT_SOURCE_DIR}/test/core/test_*.cpp)
+  foreach(src ${RC_CORE_TESTS})
+    get_filename_component(name ${src} NAME_WE)
+    catkin_add_gtest(core_${name} ${src})
+    if(TARGET core_${name})
+      target_link_libraries(core_${name} ring_curvature_core gtest_main)
+      target_compile_options(core_${name} PRIVATE ${RC_WARNINGS})
+    endif()
+  endforeach()
+endif()

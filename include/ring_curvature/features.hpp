@@ -1,0 +1,37 @@
+// Per-point features along each ring: discrete geodesic curvature (Eq 6-9), smoothness S
+// (Eq 10) and discontinuity D (Eq 11), with the variants READING_NOTES.md motivates.
+#pragma once
+
+#include <vector>
+
+#include "ring_curvature/params.hpp"
+#include "ring_curvature/scan_grid.hpp"
+
+namespace ring_curvature
+{
+
+/// Features per grid position; NaN where a feature is undefined (too few neighbours on the
+/// ring's curve, e.g. at a gap), never computed across a gap.
+struct Features
+{
+  std::vector<float> curvature;      ///< kappa_g [1/m]
+  std::vector<float> turning;        ///< turning angle [rad] behind kappa (for thresholds)
+  std::vector<float> smoothness;     ///< S [m^2]
+  std::vector<float> discontinuity;  ///< D (Paper: [0,1]; Jump: relative prediction error)
+};
+
+class FeatureComputer
+{
+public:
+  void compute(const ScanGrid& grid, const Params& params, Features& out);
+
+private:
+  void computeRing(const ScanGrid& grid, const Params& params, int ring, Features& out);
+  // scratch for one ring (sized to the largest ring, reused)
+  std::vector<float> wx_, wy_;        // developed (or z-plane) coordinates
+  std::vector<float> ds_;             // arc length to the next sample
+  std::vector<int> seg_id_;           // curve segment of each sample (gaps split segments)
+  std::vector<double> prefix_;        // prefix sums for windowed statistics
+};
+
+}  // namespace ring_curvature

@@ -1,0 +1,90 @@
+// Every tunable of the core in one struct. Defaults live here and only here; the ROS layer
+// reads each key with this value as its default (config/ring_curvature.yaml documents them).
+#pragma once
+
+#include <string>
+
+#include "ring_curvature/types.hpp"
+
+namespace ring_curvature
+{
+
+/// How the turning angle and arc length of Eq 9 are formed (see docs/method.md).
+enum class CurvatureMode : int
+{
+  Paper = 0,      ///< Eq 6-9 literally: arg of dz in the z = rho e^{i theta} plane, one-sample chords
+  Developed = 1,  ///< Eq 6-9 in the cone's isometric development w = rho e^{i theta cos(phi)}
+  Chord = 2,      ///< developed plane, chords spanning >= chord_length metres (noise-aware scale)
+};
+
+/// How the smoothness S of Eq 10 is formed.
+enum class SmoothnessMode : int
+{
+  Variance = 0,   ///< Eq 10: variance of range over the window
+  Detrended = 1,  ///< residual variance of range after a local linear fit (flat oblique walls ~ 0)
+};
+
+/// How the discontinuity D of Eq 11 is formed.
+enum class DiscontinuityMode : int
+{
+  Paper = 0,  ///< Eq 11: |drho| / ds, bounded in [0, 1] (sine of the ray-to-ring angle)
+  Jump = 1,   ///< one-sided linear-prediction error of range over range, max over both links
+};
+
+/// How per-ring thresholds are derived from the feature distributions.
+enum class ClassifierMode : int
+{
+  Quartile = 0,  ///< Algorithm 1 exactly: Q25 / Q75 per ring and feature
+  Robust = 1,    ///< median + k * MAD per ring, floored by what sensor noise alone can produce
+};
+
+struct Params
+{
+  // --- scan grid -------------------------------------------------------------------------
+  int max_rings = 256;                  ///< frames with a ring index >= this are rejected
+  float min_range = 0.3f;               ///< [m] closer returns are invalid (sensor housing)
+  float max_range = 250.0f;             ///< [m] farther returns are invalid
+  bool ring_from_elevation = false;     ///< no ring field: cluster elevation angles into rings
+  float azimuth_resolution_deg = 0.0f;  ///< [deg] 0 = measure from the data each frame
+  int max_gap_samples = 2;              ///< more missing samples than this break a ring's curve
+  float duplicate_azimuth_fraction = 0.3f;  ///< same-firing returns: |d az| < this * resolution
+
+  // --- features --------------------------------------------------------------------------
+  CurvatureMode curvature_mode = CurvatureMode::Chord;
+  float chord_length = 0.15f;           ///< [m] Chord mode: shortest chord used for the turning angle
+  int max_chord_samples = 6;            ///< Chord mode: longest chord, in samples
+  SmoothnessMode smoothness_mode = SmoothnessMode::Detrended;
+  int smoothness_window = 2;            ///< w of Eq 10: window is 2w + 1 samples
+  DiscontinuityMode discontinuity_mode = DiscontinuityMode::Jump;
+  float range_noise = 0.02f;            ///< [m] 1-sigma range noise of the sensor (noise floors)
+
+  // --- classification --------------------------------------------------------------------
+  ClassifierMode classifier_mode = ClassifierMode::Robust;
+  float robust_k = 3.0f;                ///< Robust: threshold = median + robust_k * 1.4826 * MAD
+  float noise_floor_k = 3.0f;           ///< Robust: floors are this many noise sigmas
+  float edge_min_angle_deg = 30.0f;     ///< Robust: smallest turning angle called a crease
+  float jump_min_ratio = 0.03f;         ///< Robust, Jump mode: smallest depth jump / range
+  bool non_max_suppression = true;      ///< Robust: keep only the peak of an Edge/Corner run
+
+  // --- primitives (section 4.3) ----------------------------------------------------------
+  float proximity_azimuth_factor = 1.5f;  ///< Eq 19: d theta_tol = factor * azimuth resolution
+  float proximity_range_ratio = 0.02f;    ///< Eq 20: d rho_tol = max(ratio * mean rho, min)
+  float proximity_range_min = 0.10f;      ///< [m] Eq 20
+  int min_primitive_points = 3;           ///< smaller components are not reported
+  bool rough_primitives = false;          ///< also report connected Rough clusters
+
+  /// Checks ranges and consistency; the message names the offending parameter.
+  Status validate() const;
+};
+
+const char* toString(CurvatureMode m);
+const char* toString(SmoothnessMode m);
+const char* toString(DiscontinuityMode m);
+const char* toString(ClassifierMode m);
+/// Parse the names printed by toString (case-sensitive); false when unknown.
+bool parse(const std::string& s, CurvatureMode& out);
+bool parse(const std::string& s, SmoothnessMode& out);
+bool parse(const std::string& s, DiscontinuityMode& out);
+bool parse(const std::string& s, ClassifierMode& out);
+
+}  // namespace ring_curvature

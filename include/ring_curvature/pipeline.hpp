@@ -1,0 +1,67 @@
+// The whole core, one frame at a time: grid -> features -> thresholds -> labels -> primitives.
+// ROS-free; the nodelet, the offline tools and the tests all call this class.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "ring_curvature/classifier.hpp"
+#include "ring_curvature/primitives.hpp"
+
+namespace ring_curvature
+{
+
+/// Timing of the stages of one frame [ms] (steady clock).
+struct StageTimes
+{
+  double grid = 0, features = 0, thresholds = 0, classification = 0, primitives = 0, output = 0;
+  double total() const { return grid + features + thresholds + classification + primitives + output; }
+};
+
+/// Everything the pipeline produces for one frame. Per-point arrays are indexed like the input
+/// (row-major for organized clouds) and have view.size() entries.
+struct FrameResult
+{
+  std::vector<std::uint8_t> label;        ///< Label values
+  std::vector<float> curvature;           ///< NaN where undefined or invalid
+  std::vector<float> smoothness;
+  std::vector<float> discontinuity;
+  std::vector<std::int32_t> primitive;    ///< index into primitives.primitives, -1 for none
+  PrimitiveSet primitives;
+  std::array<std::size_t, kNumLabels> label_counts{};
+  StageTimes times;
+};
+
+class Pipeline
+{
+public:
+  explicit Pipeline(const Params& params = Params());
+
+  /// Replaces the parameters (validated; on error the old ones stay in force).
+  Status setParams(const Params& params);
+  const Params& params() const { return params_; }
+
+  /// Processes one frame. On error `out` holds an empty result and the status names the problem;
+  /// the pipeline stays usable for the next frame.
+  Status process(const PointCloudView& view, FrameResult& out);
+
+  /// Intermediate products of the last frame (for tools, tests and visualisation).
+  const ScanGrid& grid() const { return grid_; }
+  const Features& features() const { return features_; }
+  const std::vector<Label>& gridLabels() const { return labels_; }
+  const std::vector<RingThresholds>& thresholds() const { return thresholds_; }
+
+private:
+  Params params_;
+  ScanGridBuilder grid_builder_;
+  FeatureComputer feature_computer_;
+  Classifier classifier_;
+  PrimitiveExtractor primitive_extractor_;
+  ScanGrid grid_;
+  Features features_;
+  std::vector<RingThresholds> thresholds_;
+  std::vector<Label> labels_;
+};
+
+}  // namespace ring_curvature

@@ -1,0 +1,165 @@
+// Per-ring thresholds by O(K) selection (std::nth_element, never a sort) and the labelling rules.
+#include "ring_curvature/classifier.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kDegToRad = 0.0174532925f;
+constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Copies the finite values of v[b, e) into out; returns how many.
+std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, std::vector<float>& out)
+{
+  out.resize(e - b);
+  std::size_t n = 0;
+  for (std::uint32_t p = b; p < e; ++p)
+    if (std::isfinite(v[p])) out[n++] = v[p];
+  return n;
+}
+
+// median + k * 1.4826 * MAD of buf[0, n) (buf is reordered).
+float medianPlusKMad(float* buf, std::size_t n, float k)
+{
+  const float med = selectQuantile(buf, n, 0.5);
+  for (std::size_t i = 0; i < n; ++i) buf[i] = std::fabs(buf[i] - med);
+  const float mad = selectQuantile(buf, n, 0.5);
+  return med + k * kMadToSigma * mad;
+}
+}  // namespace
+
+float selectQuantile(float* v, std::size_t n, double q)
+{
+  if (n == 0) return std::numeric_limits<float>::quiet_NaN();
+  // nearest-rank quantile: the value at position floor(q * (n - 1))
+  const std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+  std::nth_element(v, v + k, v + n);
+  return v[k];
+}
+
+void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, const Params& P,
+                                   std::vector<RingThresholds>& out)
+{
+  out.assign(static_cast<std::size_t>(grid.num_rings), RingThresholds{});
+  const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
+  const float sigma = P.range_noise;
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    RingThresholds& t = out[static_cast<std::size_t>(n)];
+    if (quartile)
+    {
+      // Algorithm 1: Q25 and Q75 of each feature over the ring, each by one O(K) selection.
+      auto quartiles = [&](const std::vector<float>& v, float& lo, float& hi) {
+        const std::size_t k = gatherFinite(v, b, e, scratch_);
+        lo = selectQuantile(scratch_.data(), k, 0.25);
+        hi = selectQuantile(scratch_.data(), k, 0.75);
+        if (k == 0) lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
+      };
+      float s_lo;
+      quartiles(f.curvature, t.curvature_low, t.curvature_high);
+      quartiles(f.smoothness, s_lo, t.smoothness_high);
+      quartiles(f.discontinuity, t.discontinuity_low, t.discontinuity_high);
+      continue;
+    }
+    // Robust: median + k * MAD on the ring, never below what noise alone can produce.
+    std::size_t k = gatherFinite(f.turning, b, e, scratch_);
+    const float turn_floor = P.edge_min_angle_deg * kDegToRad;
+    t.curvature_high = k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), turn_floor) : turn_floor;
+    t.curvature_low = t.curvature_high;
+    k = gatherFinite(f.smoothness, b, e, scratch_);
+    const float s_floor = (P.noise_floor_k * sigma) * (P.noise_floor_k * sigma);
+    t.smoothness_high = k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), s_floor) : s_floor;
+    k = gatherFinite(f.discontinuity, b, e, scratch_);
+    const float d_floor = P.discontinuity_mode == DiscontinuityMode::Jump ? P.jump_min_ratio : 0.9f;
+    t.discontinuity_high = k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), d_floor) : d_floor;
+    t.discontinuity_low = t.discontinuity_high;
+  }
+}
+
+void Classifier::classify(const ScanGrid& grid, const Features& f, const Params& P,
+                          const std::vector<RingThresholds>& thr, std::vector<Label>& labels)
+{
+  const std::size_t m = grid.size();
+  labels.assign(m, Label::None);
+  const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
+  const float sigma = P.range_noise;
+  const float jump_noise = P.noise_floor_k * 2.45f * sigma;  // sqrt(6) sigma: linear-prediction noise
+  const float turn_noise = P.noise_floor_k * 2.45f * sigma;  // / chord length, per point below
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    const RingThresholds& t = thr[static_cast<std::size_t>(n)];
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      const float kappa = f.curvature[p], S = f.smoothness[p], D = f.discontinuity[p];
+      if (std::isnan(S) && std::isnan(kappa) && std::isnan(D)) continue;  // isolated sample: None
+      Label l;
+      if (quartile)
+      {
+        // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
+        if (S > t.smoothness_high)
+          l = Label::Rough;
+        else if (kappa < t.curvature_low && D < t.discontinuity_low)
+          l = Label::Plane;
+        else if (kappa > t.curvature_high && D > t.discontinuity_high)
+          l = Label::Corner;
+        else if (kappa > t.curvature_high)
+          l = Label::Edge;
+        else
+          l = Label::Plane;
+      }
+      else
+      {
+        const float turn = f.turning[p];
+        const float chord = kappa > 0 ? turn / kappa : 0.0f;  // kappa = turning / chord length
+        const bool turn_high = turn > t.curvature_high && turn * chord > turn_noise;
+        bool jump_high = D > t.discontinuity_high;
+        if (P.discontinuity_mode == DiscontinuityMode::Jump) jump_high = jump_high && static_cast<double>(D) * grid.range[p] > static_cast<double>(jump_noise);
+        if (S > t.smoothness_high && !jump_high)
+          l = Label::Rough;
+        else if (jump_high)
+          l = Label::Corner;
+        else if (turn_high)
+          l = Label::Edge;
+        else
+          l = Label::Plane;
+      }
+      labels[p] = l;
+    }
+    if (quartile || !P.non_max_suppression) continue;
+    // Keep only the peak turning angle of each run of Edge candidates: a crease seen through
+    // chords of h samples lights up h samples on each side of it.
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      if (labels[p] != Label::Edge) continue;
+      std::uint32_t q = p;
+      float best = f.turning[p];
+      std::uint32_t arg = p;
+      while (q + 1 < e && grid.linked[q + 1] && (labels[q + 1] == Label::Edge || labels[q + 1] == Label::Corner))
+      {
+        ++q;
+        if (labels[q] == Label::Edge && f.turning[q] > best)
+        {
+          best = f.turning[q];
+          arg = q;
+        }
+      }
+      // a run touching a Corner is the jump's own footprint: the Corner already marks it
+      bool touches_corner = false;
+      for (std::uint32_t r = p; r <= q; ++r) touches_corner |= labels[r] == Label::Corner;
+      if (p > b && grid.linked[p] && labels[p - 1] == Label::Corner) touches_corner = true;
+      for (std::uint32_t r = p; r <= q; ++r)
+        if (labels[r] == Label::Edge && (r != arg || touches_corner)) labels[r] = Label::Plane;
+      p = q;
+    }
+  }
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,287 @@
+// Ring-wise features. Every ring is processed as a chain of runs (maximal gap-free stretches);
+// no feature reaches across a gap, and a closed ring wraps across the 0/360 deg seam.
+#include "ring_curvature/features.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kPiD = 3.14159265358979323846;
+
+double wrapPiD(double a)
+{
+  if (a >= kPiD) a -= 2 * kPiD;
+  if (a < -kPiD) a += 2 * kPiD;
+  return a;
+}
+
+// sin / cos of the small angles between ring neighbours (|a| < 0.2 rad almost always): a
+// Taylor polynomial is exact to ~1e-12 there and far cheaper than the libm calls.
+inline void smallSinCos(double a, double& s, double& c)
+{
+  if (std::fabs(a) > 0.2)
+  {
+    s = std::sin(a);
+    c = std::cos(a);
+    return;
+  }
+  const double a2 = a * a;
+  s = a * (1.0 - a2 / 6.0 * (1.0 - a2 / 20.0 * (1.0 - a2 / 42.0)));
+  c = 1.0 - a2 / 2.0 * (1.0 - a2 / 12.0 * (1.0 - a2 / 30.0));
+}
+
+// Per-ring view with circular neighbour access limited to the current run.
+struct RingCtx
+{
+  const ScanGrid& g;
+  std::uint32_t b, K;
+  bool closed;
+  // positions
+  std::uint32_t pos(std::int64_t k) const
+  {
+    std::int64_t kk = k % static_cast<std::int64_t>(K);
+    if (kk < 0) kk += K;
+    return b + static_cast<std::uint32_t>(kk);
+  }
+};
+}  // namespace
+
+void FeatureComputer::compute(const ScanGrid& grid, const Params& params, Features& out)
+{
+  const std::size_t m = grid.size();
+  out.curvature.assign(m, kNaN);
+  out.turning.assign(m, kNaN);
+  out.smoothness.assign(m, kNaN);
+  out.discontinuity.assign(m, kNaN);
+  for (int n = 0; n < grid.num_rings; ++n) computeRing(grid, params, n, out);
+}
+
+void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Features& out)
+{
+  const std::uint32_t b = g.ring_begin[static_cast<std::size_t>(n)];
+  const std::uint32_t K = g.ring_begin[static_cast<std::size_t>(n) + 1] - b;
+  if (K < 2) return;
+  const bool closed = g.ring_closed[static_cast<std::size_t>(n)] != 0;
+  const double c = P.curvature_mode == CurvatureMode::Paper ? 1.0 : g.ring_cos[static_cast<std::size_t>(n)];
+  const double cone_cos = g.ring_cos[static_cast<std::size_t>(n)];
+  const RingCtx R{g, b, K, closed};
+
+  // Run lengths: how many links are available to the left / right of each sample (capped).
+  // left[k] = number of consecutive predecessors reachable without crossing a gap.
+  const int cap = std::max({P.max_chord_samples, P.smoothness_window, 2}) + 1;
+  auto& left = seg_id_;
+  left.resize(2 * static_cast<std::size_t>(K));
+  int* L = left.data();
+  int* Rr = left.data() + K;
+  const double* rho = g.range.data() + b;
+  const bool jump_cut = P.smoothness_mode == SmoothnessMode::Detrended;
+  const double jump_abs = std::max(3.0 * P.range_noise, 0.05);
+  // A link is usable for curvature if linked; for the detrended smoothness it is also cut at a
+  // clear depth jump, so a jump does not make its whole neighbourhood look rough.
+  auto linkOk = [&](std::uint32_t k) -> bool { return g.linked[b + k] != 0; };
+  {
+    // forward pass for L (wrap once around for closed rings)
+    int run = 0;
+    const std::uint32_t passes = closed ? 2 : 1;
+    for (std::uint32_t t = 0; t < passes * K; ++t)
+    {
+      const std::uint32_t k = t % K;
+      if (t == 0 && !closed)
+        run = 0;
+      else
+        run = linkOk(k) ? std::min(run + 1, cap) : 0;
+      if (t >= (passes - 1) * K) L[k] = run;
+    }
+    run = 0;
+    for (std::uint32_t t = 0; t < passes * K; ++t)
+    {
+      const std::uint32_t k = K - 1 - (t % K);
+      const std::uint32_t next = (k + 1) % K;
+      if (t == 0 && !closed)
+        run = 0;
+      else
+        run = (k + 1 < K || closed) && linkOk(next) ? std::min(run + 1, cap) : 0;
+      if (t >= (passes - 1) * K) Rr[k] = run;
+    }
+  }
+
+  // Local development of a neighbour j around vertex k: coordinates of w_j with w_k = (rho_k, 0).
+  const bool exact = P.curvature_mode != CurvatureMode::Chord;
+  auto relAngle = [&](std::uint32_t pk, std::uint32_t pj) -> double {
+    if (!exact) return wrapPiD(static_cast<double>(g.azimuth[pj]) - g.azimuth[pk]);
+    const double xk = g.x[pk], yk = g.y[pk], xj = g.x[pj], yj = g.y[pj];
+    return std::atan2(xk * yj - yk * xj, xk * xj + yk * yj);
+  };
+  auto develop = [&](std::uint32_t pk, std::uint32_t pj, double& wx, double& wy) {
+    double s, co;
+    smallSinCos(c * relAngle(pk, pj), s, co);
+    wx = g.range[pj] * co;
+    wy = g.range[pj] * s;
+  };
+
+  const float chord = P.chord_length;
+  const double res = std::max(1e-6f, g.azimuth_resolution);
+  for (std::uint32_t k = 0; k < K; ++k)
+  {
+    const std::uint32_t pk = b + k;
+    if (L[k] == 0 || Rr[k] == 0) continue;  // turning angle needs a neighbour on each side
+    int hl = 1, hr = 1;
+    if (P.curvature_mode == CurvatureMode::Chord)
+    {
+      // Samples needed for a chord of `chord` metres at this range (spacing ~ rho cos(phi) dtheta).
+      const double spacing = rho[k] * cone_cos * res;
+      const int h = std::clamp(static_cast<int>(std::ceil(chord / std::max(spacing, 1e-6))), 1, P.max_chord_samples);
+      hl = std::min(h, L[k]);
+      hr = std::min(h, Rr[k]);
+    }
+    const std::uint32_t pp = R.pos(static_cast<std::int64_t>(k) - hl);
+    const std::uint32_t pn = R.pos(static_cast<std::int64_t>(k) + hr);
+    double ax, ay, cx, cy;
+    develop(pk, pp, ax, ay);
+    develop(pk, pn, cx, cy);
+    const double vx = rho[k] - ax, vy = -ay;  // incoming chord
+    const double ux = cx - rho[k], uy = cy;   // outgoing chord
+    const double cross = vx * uy - vy * ux, dot = vx * ux + vy * uy;
+    const double turn = std::fabs(exact ? std::atan2(cross, dot)
+                                        : static_cast<double>(fastAtan2(static_cast<float>(cross), static_cast<float>(dot))));
+    double len;
+    if (exact)
+    {
+      // Eq 6: cone-metric arc length of the incoming step (midpoint rule); Eq 9 divides by it.
+      const double dr = rho[k] - g.range[pp];
+      const double rbar = 0.5 * (rho[k] + g.range[pp]);
+      const double dth = relAngle(pp, pk);
+      len = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
+    }
+    else
+    {
+      len = 0.5 * (std::sqrt(vx * vx + vy * vy) + std::sqrt(ux * ux + uy * uy));
+    }
+    out.turning[pk] = static_cast<float>(turn);
+    out.curvature[pk] = len > 0 ? static_cast<float>(turn / len) : kNaN;
+  }
+
+  // Discontinuity.
+  if (P.discontinuity_mode == DiscontinuityMode::Paper)
+  {
+    for (std::uint32_t k = 0; k < K; ++k)
+    {
+      if (L[k] == 0) continue;
+      const std::uint32_t pk = b + k, pp = R.pos(static_cast<std::int64_t>(k) - 1);
+      const double dr = rho[k] - g.range[pp];
+      const double rbar = 0.5 * (rho[k] + g.range[pp]);
+      const double dth = relAngle(pp, pk);
+      const double ds = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
+      out.discontinuity[pk] = ds > 0 ? static_cast<float>(std::fabs(dr) / ds) : 0.0f;
+    }
+  }
+  else
+  {
+    // Link (k-1, k): how badly each side's linear extrapolation predicts the other side's range,
+    // the smaller of the two, relative to range. A grazing plane is predicted well from both
+    // sides; a depth jump from neither. A point takes the larger of its two links.
+    auto linkJump = [&](std::uint32_t k) -> float {  // link between k-1 and k; requires L[k] >= 1
+      const double r1 = rho[k], r0 = g.range[R.pos(static_cast<std::int64_t>(k) - 1)];
+      double e_left = std::fabs(r1 - r0), e_right = e_left;
+      if (L[k] >= 2)
+      {
+        const double rm = g.range[R.pos(static_cast<std::int64_t>(k) - 2)];
+        e_left = std::fabs(r1 - (2.0 * r0 - rm));
+      }
+      if (Rr[k] >= 1)
+      {
+        const double r2 = g.range[R.pos(static_cast<std::int64_t>(k) + 1)];
+        e_right = std::fabs(r0 - (2.0 * r1 - r2));
+      }
+      return static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
+    };
+    for (std::uint32_t k = 0; k < K; ++k)
+    {
+      float d = kNaN;
+      if (L[k] >= 1) d = linkJump(k);
+      if (Rr[k] >= 1)
+      {
+        const float dn = linkJump((k + 1) % K);
+        d = std::isnan(d) ? dn : std::max(d, dn);
+      }
+      out.discontinuity[b + k] = d;
+    }
+  }
+
+  // Smoothness over a window of +-w samples, via prefix sums over the ring (extended by w on
+  // each side for closed rings so windows wrap across the seam). Windows stop at gaps and, in
+  // Detrended mode, at clear depth jumps.
+  const int w = P.smoothness_window;
+  const int ext = closed ? w : 0;
+  const std::size_t E = K + 2 * static_cast<std::size_t>(ext);
+  prefix_.assign(3 * (E + 1), 0.0);
+  double* S0 = prefix_.data();          // sum rho
+  double* S1 = S0 + (E + 1);            // sum j * rho
+  double* S2 = S1 + (E + 1);            // sum rho^2
+  for (std::size_t e = 0; e < E; ++e)
+  {
+    const double r = g.range[R.pos(static_cast<std::int64_t>(e) - ext)];
+    S0[e + 1] = S0[e] + r;
+    S1[e + 1] = S1[e] + static_cast<double>(e) * r;
+    S2[e + 1] = S2[e] + r * r;
+  }
+  auto& wl = wx_;  // reach of the smoothness window (left / right), stored as float for reuse
+  auto& wr = wy_;
+  wl.resize(K);
+  wr.resize(K);
+  for (std::uint32_t k = 0; k < K; ++k)
+  {
+    int a = std::min(w, L[k]), z = std::min(w, Rr[k]);
+    if (jump_cut)
+    {
+      for (int t = 1; t <= a; ++t)
+        if (std::fabs(g.range[R.pos(static_cast<std::int64_t>(k) - t + 1)] - g.range[R.pos(static_cast<std::int64_t>(k) - t)]) >
+            std::max(jump_abs, P.jump_min_ratio * rho[k]))
+        {
+          a = t - 1;
+          break;
+        }
+      for (int t = 1; t <= z; ++t)
+        if (std::fabs(g.range[R.pos(static_cast<std::int64_t>(k) + t)] - g.range[R.pos(static_cast<std::int64_t>(k) + t - 1)]) >
+            std::max(jump_abs, P.jump_min_ratio * rho[k]))
+        {
+          z = t - 1;
+          break;
+        }
+    }
+    wl[k] = static_cast<float>(a);
+    wr[k] = static_cast<float>(z);
+  }
+  for (std::uint32_t k = 0; k < K; ++k)
+  {
+    const int a = static_cast<int>(wl[k]), z = static_cast<int>(wr[k]);
+    const std::size_t lo = k + static_cast<std::size_t>(ext) - static_cast<std::size_t>(a);
+    const std::size_t hi = k + static_cast<std::size_t>(ext) + static_cast<std::size_t>(z) + 1;  // exclusive
+    const double cnt = static_cast<double>(hi - lo);
+    if (cnt < 2)
+    {
+      out.smoothness[b + k] = cnt == 1 ? 0.0f : kNaN;
+      continue;
+    }
+    // centre everything on the window's mean index / range to keep the sums well conditioned
+    const double s0 = S0[hi] - S0[lo], s1 = S1[hi] - S1[lo], s2 = S2[hi] - S2[lo];
+    const double mean = s0 / cnt;
+    double var = s2 / cnt - mean * mean;  // Eq 10
+    if (P.smoothness_mode == SmoothnessMode::Detrended && cnt >= 3)
+    {
+      const double jbar = 0.5 * static_cast<double>(lo + hi - 1);
+      const double sjj = (cnt * cnt - 1.0) * cnt / 12.0;  // sum (j - jbar)^2 over consecutive j
+      const double sjr = s1 - jbar * s0;                  // sum (j - jbar) * rho
+      var -= (sjr * sjr / sjj) / cnt;                     // remove the linear trend
+    }
+    out.smoothness[b + k] = static_cast<float>(std::max(0.0, var));
+  }
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,96 @@
+#include "ring_curvature/params.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace ring_curvature
+{
+
+namespace
+{
+// Builds "parameter 'name' = value is out of range [lo, hi]: why".
+template <typename T>
+Status outOfRange(const char* name, T value, T lo, T hi, const char* why)
+{
+  std::ostringstream s;
+  s << "parameter '" << name << "' = " << value << " is out of range [" << lo << ", " << hi << "]: " << why;
+  return Status::error(s.str());
+}
+template <typename T>
+bool inRange(T v, T lo, T hi)
+{
+  return v >= lo && v <= hi;  // false for NaN
+}
+}  // namespace
+
+#define RC_CHECK(name, lo, hi, why) \
+  if (!inRange(name, decltype(name)(lo), decltype(name)(hi))) \
+    return outOfRange(#name, name, decltype(name)(lo), decltype(name)(hi), why);
+
+Status Params::validate() const
+{
+  RC_CHECK(max_rings, 1, 4096, "number of rings accepted per frame");
+  RC_CHECK(min_range, 0.0f, 1000.0f, "metres");
+  RC_CHECK(max_range, 0.01f, 10000.0f, "metres");
+  if (!(max_range > min_range))
+    return Status::error("parameter 'max_range' must be greater than 'min_range'");
+  RC_CHECK(azimuth_resolution_deg, 0.0f, 10.0f, "degrees, 0 = measure");
+  RC_CHECK(max_gap_samples, 0, 1000, "samples");
+  RC_CHECK(duplicate_azimuth_fraction, 0.0f, 0.9f, "fraction of the azimuth resolution");
+  RC_CHECK(chord_length, 0.0f, 100.0f, "metres");
+  RC_CHECK(max_chord_samples, 1, 256, "samples");
+  RC_CHECK(smoothness_window, 1, 256, "samples on each side");
+  RC_CHECK(range_noise, 0.0f, 10.0f, "metres");
+  RC_CHECK(robust_k, 0.0f, 100.0f, "MAD multiples");
+  RC_CHECK(noise_floor_k, 0.0f, 100.0f, "noise sigmas");
+  RC_CHECK(edge_min_angle_deg, 0.0f, 180.0f, "degrees");
+  RC_CHECK(jump_min_ratio, 0.0f, 10.0f, "depth jump / range");
+  RC_CHECK(proximity_azimuth_factor, 0.0f, 100.0f, "azimuth resolutions");
+  RC_CHECK(proximity_range_ratio, 0.0f, 10.0f, "fraction of range");
+  RC_CHECK(proximity_range_min, 0.0f, 100.0f, "metres");
+  RC_CHECK(min_primitive_points, 1, 100000000, "points");
+  int cm = static_cast<int>(curvature_mode), sm = static_cast<int>(smoothness_mode);
+  int dm = static_cast<int>(discontinuity_mode), km = static_cast<int>(classifier_mode);
+  RC_CHECK(cm, 0, 2, "curvature_mode: 0 paper, 1 developed, 2 chord");
+  RC_CHECK(sm, 0, 1, "smoothness_mode: 0 variance, 1 detrended");
+  RC_CHECK(dm, 0, 1, "discontinuity_mode: 0 paper, 1 jump");
+  RC_CHECK(km, 0, 1, "classifier_mode: 0 quartile, 1 robust");
+  return Status::success();
+}
+#undef RC_CHECK
+
+const char* toString(CurvatureMode m)
+{
+  switch (m)
+  {
+    case CurvatureMode::Paper: return "paper";
+    case CurvatureMode::Developed: return "developed";
+    case CurvatureMode::Chord: return "chord";
+  }
+  return "?";
+}
+const char* toString(SmoothnessMode m) { return m == SmoothnessMode::Variance ? "variance" : "detrended"; }
+const char* toString(DiscontinuityMode m) { return m == DiscontinuityMode::Paper ? "paper" : "jump"; }
+const char* toString(ClassifierMode m) { return m == ClassifierMode::Quartile ? "quartile" : "robust"; }
+
+namespace
+{
+template <typename E, int N>
+bool parseEnum(const std::string& s, E& out)
+{
+  for (int i = 0; i < N; ++i)
+    if (s == toString(static_cast<E>(i)))
+    {
+      out = static_cast<E>(i);
+      return true;
+    }
+  return false;
+}
+}  // namespace
+
+bool parse(const std::string& s, CurvatureMode& out) { return parseEnum<CurvatureMode, 3>(s, out); }
+bool parse(const std::string& s, SmoothnessMode& out) { return parseEnum<SmoothnessMode, 2>(s, out); }
+bool parse(const std::string& s, DiscontinuityMode& out) { return parseEnum<DiscontinuityMode, 2>(s, out); }
+bool parse(const std::string& s, ClassifierMode& out) { return parseEnum<ClassifierMode, 2>(s, out); }
+
+}  // namespace ring_curvature

@@ -1,0 +1,575 @@
+// Builds the ring x azimuth scan grid in O(n): counting sort by ring, then a bucket sort by
+// azimuth within each ring (rings arrive nearly sorted, so buckets hold one or two points).
+#include "ring_curvature/scan_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kPi = 3.14159265358979f;
+constexpr float kTwoPi = 6.28318530717959f;
+
+float wrapPi(float a)
+{
+  if (a >= kPi) a -= kTwoPi;
+  if (a < -kPi) a += kTwoPi;
+  return a;
+}
+
+bool overlaps(const FieldView& a, const FieldView& b)
+{
+  if (!a.present() || !b.present()) return false;
+  const auto ae = a.offset + static_cast<std::int64_t>(scalarSize(a.type));
+  const auto be = b.offset + static_cast<std::int64_t>(scalarSize(b.type));
+  return a.offset < be && b.offset < ae;
+}
+
+Status checkField(const char* name, const FieldView& f, std::uint32_t point_step)
+{
+  const std::size_t sz = scalarSize(f.type);
+  if (sz == 0)
+  {
+    std::ostringstream s;
+    s << "field '" << name << "' has an invalid datatype code " << static_cast<int>(f.type);
+    return Status::error(s.str());
+  }
+  if (f.offset < 0 || static_cast<std::uint64_t>(f.offset) + sz > point_step)
+  {
+    std::ostringstream s;
+    s << "field '" << name << "' (offset " << f.offset << ", " << sz << " bytes) lies outside the point record "
+      << "(point_step " << point_step << ")";
+    return Status::error(s.str());
+  }
+  return Status::success();
+}
+
+Status checkLayout(const PointCloudView& v, const Params& params)
+{
+  if (v.width == 0 || v.height == 0) return Status::success();  // empty frame: legal, nothing to do
+  if (v.data == nullptr) return Status::error("cloud has points but no data buffer");
+  if (v.point_step == 0) return Status::error("point_step is 0");
+  const std::uint64_t min_row = static_cast<std::uint64_t>(v.width) * v.point_step;
+  if (v.row_step < min_row)
+  {
+    std::ostringstream s;
+    s << "row_step " << v.row_step << " is smaller than width * point_step = " << v.width << " * " << v.point_step
+      << " = " << min_row;
+    return Status::error(s.str());
+  }
+  const std::uint64_t need = static_cast<std::uint64_t>(v.row_step) * (v.height - 1) + min_row;
+  if (v.data_size < need)
+  {
+    std::ostringstream s;
+    s << "data holds " << v.data_size << " bytes but width " << v.width << " x height " << v.height
+      << " with row_step " << v.row_step << " needs " << need << " (truncated cloud)";
+    return Status::error(s.str());
+  }
+  const struct
+  {
+    const char* name;
+    const FieldView& f;
+  } xyz[] = {{"x", v.x}, {"y", v.y}, {"z", v.z}};
+  for (const auto& c : xyz)
+  {
+    if (!c.f.present()) return Status::error(std::string("cloud has no '") + c.name + "' field");
+    if (c.f.type != ScalarType::Float32 && c.f.type != ScalarType::Float64)
+      return Status::error(std::string("field '") + c.name + "' has type " + scalarTypeName(c.f.type) +
+                           "; expected float32 or float64");
+    Status st = checkField(c.name, c.f, v.point_step);
+    if (!st) return st;
+  }
+  if (v.ring.present())
+  {
+    if (!isIntegerType(v.ring.type))
+      return Status::error(std::string("field 'ring' has type ") + scalarTypeName(v.ring.type) +
+                           "; expected an integer type (uint8, uint16, int16, int32, ...)");
+    Status st = checkField("ring", v.ring, v.point_step);
+    if (!st) return st;
+  }
+  else if (!v.organized() && !params.ring_from_elevation)
+  {
+    return Status::error("cloud has no 'ring' field and is unorganized (height 1): use a driver that publishes "
+                         "the per-point ring, or set ring_from_elevation to derive rings from elevation angles");
+  }
+  if (v.time.present())
+  {
+    Status st = checkField("time", v.time, v.point_step);
+    if (!st) return st;
+  }
+  if (v.intensity.present())
+  {
+    Status st = checkField("intensity", v.intensity, v.point_step);
+    if (!st) return st;
+  }
+  const FieldView* used[] = {&v.x, &v.y, &v.z, &v.ring};
+  const char* names[] = {"x", "y", "z", "ring"};
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      if (overlaps(*used[a], *used[b]))
+        return Status::error(std::string("fields '") + names[a] + "' and '" + names[b] + "' overlap in the point record");
+  if (v.organized() && v.height > static_cast<std::uint32_t>(params.max_rings))
+  {
+    std::ostringstream s;
+    s << "organized cloud has " << v.height << " rows (rings) but max_rings is " << params.max_rings;
+    return Status::error(s.str());
+  }
+  return Status::success();
+}
+
+inline double readCoord(const std::uint8_t* rec, const FieldView& f)
+{
+  if (f.type == ScalarType::Float32) return readFloat32(rec + f.offset);
+  double d;
+  std::memcpy(&d, rec + f.offset, sizeof d);
+  return d;
+}
+}  // namespace
+
+float fastAtan2(float y, float x)
+{
+  const float ax = std::fabs(x), ay = std::fabs(y);
+  const float mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (!(mx > 0.0f)) return 0.0f;
+  const float a = mn / mx;
+  const float s = a * a;
+  // Minimax polynomial for atan on [0, 1] (max error ~1e-5 rad, far below a 0.1 deg azimuth step).
+  float r = ((((0.0208351f * s - 0.0851330f) * s + 0.1801410f) * s - 0.3302995f) * s + 0.9998660f) * a;
+  if (ay > ax) r = 1.57079637f - r;
+  if (x < 0.0f) r = kPi - r;
+  return y < 0.0f ? -r : r;
+}
+
+int ScanGrid::ringOf(std::uint32_t pos) const
+{
+  const auto it = std::upper_bound(ring_begin.begin(), ring_begin.end(), pos);
+  return static_cast<int>(it - ring_begin.begin()) - 1;
+}
+
+Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, ScanGrid& grid)
+{
+  grid.num_rings = 0;
+  grid.organized = view.organized();
+  grid.ring_begin.assign(1, 0);
+  grid.index.clear();
+  grid.state.clear();
+  grid.grid_pos.clear();
+  grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = 0;
+  for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
+  grid.azimuth.clear();
+  grid.linked.clear();
+  grid.up.clear();
+
+  Status st = checkLayout(view, params);
+  if (!st) return st;
+  if (view.size() == 0) return Status::success();
+
+  st = readPoints(view, params, grid);
+  if (!st)
+  {
+    grid.state.clear();
+    grid.grid_pos.clear();
+    return st;
+  }
+  if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(params, grid);
+  if (view.organized())
+    placeOrganized(view, grid);
+  else
+    sortRings(params, grid);
+  measureResolution(params, grid);
+  if (!view.organized()) removeDuplicates(params, grid);
+
+  // Gather the structure-of-arrays grid in final order.
+  const std::size_t m = tmp_index_.size();
+  grid.index.assign(tmp_index_.begin(), tmp_index_.end());
+  grid.x.resize(m);
+  grid.y.resize(m);
+  grid.z.resize(m);
+  grid.range.resize(m);
+  grid.azimuth.resize(m);
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    const std::uint32_t i = tmp_index_[p];
+    grid.x[p] = px_[i];
+    grid.y[p] = py_[i];
+    grid.z[p] = pz_[i];
+    grid.range[p] = prange_[i];
+    grid.azimuth[p] = paz_[i];
+    grid.grid_pos[i] = static_cast<std::int32_t>(p);
+  }
+  // Duplicates and second returns point at their representative (stored as an input index).
+  for (std::size_t i = 0; i < grid.num_input; ++i)
+    if (grid.state[i] == PointState::Duplicate || grid.state[i] == PointState::SecondReturn)
+      grid.grid_pos[i] = grid.grid_pos[static_cast<std::size_t>(ring_of_[i])];
+
+  // Mean elevation per ring (for the cone's development factor cos(phi)).
+  grid.ring_elevation.assign(static_cast<std::size_t>(grid.num_rings), 0.0f);
+  grid.ring_cos.assign(static_cast<std::size_t>(grid.num_rings), 1.0f);
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    double s = 0;
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    for (std::uint32_t p = b; p < e; ++p) s += grid.z[p] / grid.range[p];
+    const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
+    grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
+    grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
+  }
+  linkRings(params, grid);
+  findVerticalNeighbours(grid);
+  return Status::success();
+}
+
+Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid)
+{
+  const std::size_t n = view.size();
+  grid.num_input = n;
+  grid.state.assign(n, PointState::Invalid);
+  grid.grid_pos.assign(n, -1);
+  ring_of_.resize(n);
+  px_.resize(n);
+  py_.resize(n);
+  pz_.resize(n);
+  prange_.resize(n);
+  paz_.resize(n);
+  const float rmin = params.min_range, rmax = params.max_range;
+  int max_ring = -1;
+  const bool have_ring = view.ring.present();
+  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
+                    view.z.type == ScalarType::Float32;
+  for (std::uint32_t row = 0; row < view.height; ++row)
+  {
+    const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
+    for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+    {
+      const std::size_t i = static_cast<std::size_t>(row) * view.width + col;
+      double x, y, z;
+      if (fast)
+      {
+        x = readFloat32(rec + view.x.offset);
+        y = readFloat32(rec + view.y.offset);
+        z = readFloat32(rec + view.z.offset);
+      }
+      else
+      {
+        x = readCoord(rec, view.x);
+        y = readCoord(rec, view.y);
+        z = readCoord(rec, view.z);
+      }
+      int ring = static_cast<int>(row);
+      if (have_ring)
+      {
+        const std::int64_t r = readInteger(rec + view.ring.offset, view.ring.type);
+        if (r < 0 || r >= params.max_rings)
+        {
+          std::ostringstream s;
+          s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
+          return Status::error(s.str());
+        }
+        if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
+      }
+      const double range = std::sqrt(x * x + y * y + z * z);
+      px_[i] = x;
+      py_[i] = y;
+      pz_[i] = z;
+      prange_[i] = range;
+      if (!(range >= static_cast<double>(rmin) && range <= static_cast<double>(rmax)))  // also rejects NaN, inf
+      {
+        ring_of_[i] = -1;
+        continue;
+      }
+      paz_[i] = fastAtan2(static_cast<float>(y), static_cast<float>(x));
+      ring_of_[i] = ring;
+      grid.state[i] = PointState::OnGrid;
+      max_ring = std::max(max_ring, ring);
+    }
+  }
+  grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
+  return Status::success();
+}
+
+void ScanGridBuilder::assignRingsFromElevation(const Params& params, ScanGrid& grid)
+{
+  // Histogram of elevation at 0.05 deg; runs of occupied bins (a beam's spread) become rings,
+  // numbered from the lowest elevation up (the velodyne convention).
+  constexpr int kBins = 3600;
+  constexpr float kBinRad = kPi / kBins;
+  const std::size_t n = grid.num_input;
+  counts_.assign(kBins, 0);
+  tmp_f_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (ring_of_[i] < 0) continue;
+    const float horiz = static_cast<float>(std::sqrt(px_[i] * px_[i] + py_[i] * py_[i]));
+    const float el = fastAtan2(static_cast<float>(pz_[i]), horiz);
+    tmp_f_[i] = el;
+    const int b = std::clamp(static_cast<int>((el + kPi / 2) / kBinRad), 0, kBins - 1);
+    ++counts_[static_cast<std::size_t>(b)];
+  }
+  bin_start_.assign(kBins, 0);  // ring id of each bin
+  int ring = -1;
+  int last_occupied = -10;
+  for (int b = 0; b < kBins; ++b)
+  {
+    if (counts_[static_cast<std::size_t>(b)] == 0) continue;
+    if (b - last_occupied > 2) ++ring;  // a gap of two empty bins (0.1 deg) separates beams
+    last_occupied = b;
+    bin_start_[static_cast<std::size_t>(b)] = static_cast<std::uint32_t>(ring);
+  }
+  const int num = std::min(ring + 1, params.max_rings);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (ring_of_[i] < 0) continue;
+    const int b = std::clamp(static_cast<int>((tmp_f_[i] + kPi / 2) / kBinRad), 0, kBins - 1);
+    ring_of_[i] = std::min(static_cast<int>(bin_start_[static_cast<std::size_t>(b)]), num - 1);
+  }
+  grid.num_rings = std::max(num, 0);
+}
+
+void ScanGridBuilder::sortRings(const Params& /*params*/, ScanGrid& grid)
+{
+  const std::size_t n = grid.num_input;
+  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
+  // 1) counting sort by ring (stable: keeps firing order)
+  counts_.assign(R + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (ring_of_[i] >= 0) ++counts_[static_cast<std::size_t>(ring_of_[i]) + 1];
+  for (std::size_t r = 0; r < R; ++r) counts_[r + 1] += counts_[r];
+  grid.ring_begin.assign(counts_.begin(), counts_.end());
+  const std::size_t m = counts_[R];
+  tmp_index_.resize(m);
+  bin_start_.assign(counts_.begin(), counts_.end());
+  for (std::size_t i = 0; i < n; ++i)
+    if (ring_of_[i] >= 0) tmp_index_[bin_start_[static_cast<std::size_t>(ring_of_[i])]++] = static_cast<std::uint32_t>(i);
+
+  // 2) per ring, bucket sort by azimuth with about one bucket per point, then fix the order
+  //    inside each bucket (insertion sort for small buckets, std::sort for crowded ones, so a
+  //    degenerate frame cannot go quadratic).
+  std::vector<std::uint32_t>& perm = column_;  // reuse as scratch
+  perm.resize(m);
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
+    const std::uint32_t k = e - b;
+    if (k < 2) continue;
+    std::uint32_t nb = 16;
+    while (nb < k) nb <<= 1;
+    const float scale = static_cast<float>(nb) / kTwoPi;
+    counts_.assign(nb + 1, 0);
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      const auto bin = std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((paz_[tmp_index_[p]] + kPi) * scale));
+      ++counts_[bin + 1];
+    }
+    for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
+    bin_start_.assign(counts_.begin(), counts_.end() - 1);
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      const std::uint32_t i = tmp_index_[p];
+      const auto bin = std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((paz_[i] + kPi) * scale));
+      perm[b + bin_start_[bin]++] = i;
+    }
+    for (std::uint32_t j = 0; j < nb; ++j)
+    {
+      const std::uint32_t lo = b + counts_[j], hi = b + counts_[j + 1];
+      if (hi - lo < 2) continue;
+      if (hi - lo <= 16)
+      {
+        for (std::uint32_t p = lo + 1; p < hi; ++p)
+        {
+          const std::uint32_t v = perm[p];
+          std::uint32_t q = p;
+          while (q > lo && paz_[perm[q - 1]] > paz_[v])
+          {
+            perm[q] = perm[q - 1];
+            --q;
+          }
+          perm[q] = v;
+        }
+      }
+      else
+      {
+        std::stable_sort(perm.begin() + lo, perm.begin() + hi,
+                         [this](std::uint32_t a, std::uint32_t c) { return paz_[a] < paz_[c]; });
+      }
+    }
+    std::copy(perm.begin() + b, perm.begin() + e, tmp_index_.begin() + b);
+  }
+}
+
+void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
+{
+  // Row = ring, column order = azimuth order: the sensor already gives the grid.
+  const std::size_t R = view.height, W = view.width;
+  grid.ring_begin.assign(R + 1, 0);
+  tmp_index_.clear();
+  column_.clear();
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    for (std::size_t c = 0; c < W; ++c)
+    {
+      const std::size_t i = r * W + c;
+      if (ring_of_[i] < 0) continue;
+      tmp_index_.push_back(static_cast<std::uint32_t>(i));
+      column_.push_back(static_cast<std::uint32_t>(c));
+    }
+    grid.ring_begin[r + 1] = static_cast<std::uint32_t>(tmp_index_.size());
+  }
+}
+
+void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
+{
+  constexpr float kDeg = kPi / 180.0f;
+  if (params.azimuth_resolution_deg > 0.0f)
+  {
+    grid.azimuth_resolution = params.azimuth_resolution_deg * kDeg;
+    return;
+  }
+  // Median spacing of neighbouring samples on the same ring; same-firing duplicates (spacing
+  // near 0) and gaps (> 5 deg) are left out. For organized clouds the spacing per column.
+  tmp_f_.clear();
+  std::uint32_t largest = 1;
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    largest = std::max(largest, e - b);
+    for (std::uint32_t p = b + 1; p < e; ++p)
+    {
+      float d = std::fabs(wrapPi(paz_[tmp_index_[p]] - paz_[tmp_index_[p - 1]]));
+      if (grid.organized)
+      {
+        const std::uint32_t dc = column_[p] - column_[p - 1];
+        d /= static_cast<float>(dc);
+      }
+      if (d > 1e-5f && d < 5.0f * kDeg) tmp_f_.push_back(d);
+    }
+  }
+  if (tmp_f_.empty())
+  {
+    grid.azimuth_resolution = kTwoPi / static_cast<float>(largest);
+    return;
+  }
+  auto mid = tmp_f_.begin() + static_cast<std::ptrdiff_t>(tmp_f_.size() / 2);
+  std::nth_element(tmp_f_.begin(), mid, tmp_f_.end());
+  grid.azimuth_resolution = *mid;
+}
+
+void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
+{
+  // Returns of the same firing (dual-return mode) sit at (almost) the same azimuth. An identical
+  // one is a Duplicate that shares its representative's label; a different range is a second
+  // return kept off the grid, so the ring stays a curve (one sample per firing).
+  const float same_firing = params.duplicate_azimuth_fraction * grid.azimuth_resolution;
+  const float same_range = std::max(params.range_noise, 0.005f);
+  std::uint32_t w = 0;
+  std::uint32_t new_begin = 0;
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    grid.ring_begin[static_cast<std::size_t>(n)] = new_begin;
+    std::int64_t rep = -1;  // input index of the current representative
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      const std::uint32_t i = tmp_index_[p];
+      if (rep >= 0 && paz_[i] - paz_[static_cast<std::size_t>(rep)] < same_firing)
+      {
+        // The first return of a firing stays on the grid (deterministic; both returns of a
+        // dual-return firing lie on the same ray, so either continues the ring's curve).
+        const std::size_t ri = static_cast<std::size_t>(rep);
+        const bool same = std::fabs(prange_[i] - prange_[ri]) <= static_cast<double>(same_range);
+        grid.state[i] = same ? PointState::Duplicate : PointState::SecondReturn;
+        ++(same ? grid.num_duplicates : grid.num_second_returns);
+        ring_of_[i] = static_cast<std::int32_t>(rep);  // reuse: representative's input index
+        continue;
+      }
+      tmp_index_[w++] = i;
+      rep = i;
+    }
+    new_begin = w;
+  }
+  grid.ring_begin[static_cast<std::size_t>(grid.num_rings)] = w;
+  tmp_index_.resize(w);
+}
+
+void ScanGridBuilder::linkRings(const Params& params, ScanGrid& grid)
+{
+  const std::size_t m = grid.size();
+  grid.linked.assign(m, 0);
+  grid.ring_closed.assign(static_cast<std::size_t>(grid.num_rings), 0);
+  const float max_step = (static_cast<float>(params.max_gap_samples) + 1.5f) * grid.azimuth_resolution;
+  const std::uint32_t max_cols = static_cast<std::uint32_t>(params.max_gap_samples) + 1;
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    if (e - b < 2) continue;
+    for (std::uint32_t p = b + 1; p < e; ++p)
+    {
+      const bool ok = grid.organized ? column_[p] - column_[p - 1] <= max_cols
+                                     : grid.azimuth[p] - grid.azimuth[p - 1] <= max_step;
+      grid.linked[p] = ok ? 1 : 0;
+    }
+    // The seam: the last sample connects to the first when the ring covers the full circle.
+    bool closed;
+    if (grid.organized)
+    {
+      const float sweep = static_cast<float>(grid.num_input / static_cast<std::size_t>(grid.num_rings)) * grid.azimuth_resolution;
+      const std::uint32_t width = static_cast<std::uint32_t>(grid.num_input / static_cast<std::size_t>(grid.num_rings));
+      closed = std::fabs(sweep - kTwoPi) < 0.05f * kTwoPi && column_[b] + width - column_[e - 1] <= max_cols;
+    }
+    else
+    {
+      closed = grid.azimuth[b] + kTwoPi - grid.azimuth[e - 1] <= max_step;
+    }
+    closed = closed && e - b >= 3;
+    grid.ring_closed[static_cast<std::size_t>(n)] = closed ? 1 : 0;
+    grid.linked[b] = closed ? 1 : 0;
+  }
+}
+
+void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
+{
+  const std::size_t m = grid.size();
+  grid.up.assign(m, -1);
+  if (grid.organized)
+  {
+    const std::size_t width = grid.num_input / static_cast<std::size_t>(grid.num_rings);
+    for (std::size_t p = 0; p < m; ++p)
+    {
+      const std::size_t i = grid.index[p] + width;
+      if (i < grid.num_input && grid.state[i] == PointState::OnGrid) grid.up[p] = grid.grid_pos[i];
+    }
+    return;
+  }
+  // Two sorted sequences: walk them together and take the nearest azimuth (circularly).
+  for (int n = 0; n + 1 < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    const std::uint32_t ub = e, ue = grid.ring_begin[static_cast<std::size_t>(n) + 2];
+    if (ub == ue) continue;
+    std::uint32_t q = ub;
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      const float a = grid.azimuth[p];
+      while (q + 1 < ue && grid.azimuth[q + 1] <= a) ++q;
+      std::uint32_t best = q;
+      float bd = std::fabs(wrapPi(grid.azimuth[q] - a));
+      const std::uint32_t cand[2] = {q + 1 < ue ? q + 1 : ub, ue - 1};  // next one, and the wrap
+      for (std::uint32_t c : cand)
+      {
+        const float d = std::fabs(wrapPi(grid.azimuth[c] - a));
+        if (d < bd)
+        {
+          bd = d;
+          best = c;
+        }
+      }
+      grid.up[p] = static_cast<std::int32_t>(best);
+    }
+  }
+}
+
+}  // namespace ring_curvature
