@@ -27,6 +27,8 @@ public:
                 const std::vector<RingThresholds>& thr, std::vector<Label>& labels);
 
 private:
+  void suppressNonMaxima(const ScanGrid& grid, const Features& f, std::uint32_t b, std::uint32_t e, bool closed,
+                         std::vector<Label>& labels);
   std::vector<float> scratch_;
 };
 

@@ -54,7 +54,7 @@ struct Params
   float chord_length = 0.15f;           ///< [m] Chord mode: shortest chord used for the turning angle
   int max_chord_samples = 6;            ///< Chord mode: longest chord, in samples
   SmoothnessMode smoothness_mode = SmoothnessMode::Detrended;
-  int smoothness_window = 2;            ///< w of Eq 10: window is 2w + 1 samples
+  int smoothness_window = 3;            ///< w of Eq 10: window is 2w + 1 samples
   DiscontinuityMode discontinuity_mode = DiscontinuityMode::Jump;
   float range_noise = 0.02f;            ///< [m] 1-sigma range noise of the sensor (noise floors)
 

@@ -34,6 +34,67 @@ float medianPlusKMad(float* buf, std::size_t n, float k)
 }
 }  // namespace
 
+void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std::uint32_t b, std::uint32_t e,
+                                   bool closed, std::vector<Label>& labels)
+{
+  // Keep only the peak turning angle of each run of Edge candidates: a crease seen through
+  // chords of h samples lights up h samples on each side of it. Runs are followed around the
+  // seam of a closed ring, so a crease on the seam is kept once.
+  const std::uint32_t K = e - b;
+  if (K == 0) return;
+  auto isFeature = [&](std::uint32_t k) {
+    const Label l = labels[b + k];
+    return l == Label::Edge || l == Label::Corner;
+  };
+  // start right after a break (a non-feature sample or a gap) so no run is entered midway
+  std::uint32_t start = 0;
+  if (closed)
+  {
+    std::uint32_t k = 0;
+    while (k < K && isFeature(k) && grid.linked[b + k]) ++k;
+    if (k == K) return;  // the whole ring is one run: nothing to compare against
+    start = k;
+  }
+  for (std::uint32_t t = 0; t < K;)
+  {
+    const std::uint32_t k0 = (start + t) % K;
+    if (!isFeature(k0))
+    {
+      ++t;
+      continue;
+    }
+    // the run [t, t_end)
+    std::uint32_t t_end = t + 1;
+    while (t_end < K)
+    {
+      const std::uint32_t k = (start + t_end) % K;
+      if (!isFeature(k) || !grid.linked[b + k] || (!closed && k == 0)) break;
+      ++t_end;
+    }
+    bool touches_corner = false;
+    std::uint32_t arg = K;
+    float best = -1.0f;
+    for (std::uint32_t u = t; u < t_end; ++u)
+    {
+      const std::uint32_t p = b + (start + u) % K;
+      if (labels[p] == Label::Corner)
+        touches_corner = true;
+      else if (f.turning[p] > best)
+      {
+        best = f.turning[p];
+        arg = p;
+      }
+    }
+    // a run touching a Corner is the jump's own footprint: the Corner already marks it
+    for (std::uint32_t u = t; u < t_end; ++u)
+    {
+      const std::uint32_t p = b + (start + u) % K;
+      if (labels[p] == Label::Edge && (p != arg || touches_corner)) labels[p] = Label::Plane;
+    }
+    t = t_end;
+  }
+}
+
 float selectQuantile(float* v, std::size_t n, double q)
 {
   if (n == 0) return std::numeric_limits<float>::quiet_NaN();
@@ -122,7 +183,9 @@ void Classifier::classify(const ScanGrid& grid, const Features& f, const Params&
         const bool turn_high = turn > t.curvature_high && turn * chord > turn_noise;
         bool jump_high = D > t.discontinuity_high;
         if (P.discontinuity_mode == DiscontinuityMode::Jump) jump_high = jump_high && static_cast<double>(D) * grid.range[p] > static_cast<double>(jump_noise);
-        if (S > t.smoothness_high && !jump_high)
+        // S is edge-preserving (best one-sided window), so a clean depth jump keeps a low S on
+        // its own surface; high S means clutter even where ranges jump everywhere.
+        if (S > t.smoothness_high)
           l = Label::Rough;
         else if (jump_high)
           l = Label::Corner;
@@ -134,31 +197,7 @@ void Classifier::classify(const ScanGrid& grid, const Features& f, const Params&
       labels[p] = l;
     }
     if (quartile || !P.non_max_suppression) continue;
-    // Keep only the peak turning angle of each run of Edge candidates: a crease seen through
-    // chords of h samples lights up h samples on each side of it.
-    for (std::uint32_t p = b; p < e; ++p)
-    {
-      if (labels[p] != Label::Edge) continue;
-      std::uint32_t q = p;
-      float best = f.turning[p];
-      std::uint32_t arg = p;
-      while (q + 1 < e && grid.linked[q + 1] && (labels[q + 1] == Label::Edge || labels[q + 1] == Label::Corner))
-      {
-        ++q;
-        if (labels[q] == Label::Edge && f.turning[q] > best)
-        {
-          best = f.turning[q];
-          arg = q;
-        }
-      }
-      // a run touching a Corner is the jump's own footprint: the Corner already marks it
-      bool touches_corner = false;
-      for (std::uint32_t r = p; r <= q; ++r) touches_corner |= labels[r] == Label::Corner;
-      if (p > b && grid.linked[p] && labels[p - 1] == Label::Corner) touches_corner = true;
-      for (std::uint32_t r = p; r <= q; ++r)
-        if (labels[r] == Label::Edge && (r != arg || touches_corner)) labels[r] = Label::Plane;
-      p = q;
-    }
+    suppressNonMaxima(grid, f, b, e, grid.ring_closed[static_cast<std::size_t>(n)] != 0, labels);
   }
 }
 

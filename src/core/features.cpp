@@ -80,10 +80,6 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   int* L = left.data();
   int* Rr = left.data() + K;
   const double* rho = g.range.data() + b;
-  const bool jump_cut = P.smoothness_mode == SmoothnessMode::Detrended;
-  const double jump_abs = std::max(3.0 * P.range_noise, 0.05);
-  // A link is usable for curvature if linked; for the detrended smoothness it is also cut at a
-  // clear depth jump, so a jump does not make its whole neighbourhood look rough.
   auto linkOk = [&](std::uint32_t k) -> bool { return g.linked[b + k] != 0; };
   {
     // forward pass for L (wrap once around for closed rings)
@@ -215,8 +211,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   }
 
   // Smoothness over a window of +-w samples, via prefix sums over the ring (extended by w on
-  // each side for closed rings so windows wrap across the seam). Windows stop at gaps and, in
-  // Detrended mode, at clear depth jumps.
+  // each side for closed rings so windows wrap across the seam). Windows stop at gaps.
   const int w = P.smoothness_window;
   const int ext = closed ? w : 0;
   const std::size_t E = K + 2 * static_cast<std::size_t>(ext);
@@ -237,50 +232,48 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   wr.resize(K);
   for (std::uint32_t k = 0; k < K; ++k)
   {
-    int a = std::min(w, L[k]), z = std::min(w, Rr[k]);
-    if (jump_cut)
-    {
-      for (int t = 1; t <= a; ++t)
-        if (std::fabs(g.range[R.pos(static_cast<std::int64_t>(k) - t + 1)] - g.range[R.pos(static_cast<std::int64_t>(k) - t)]) >
-            std::max(jump_abs, P.jump_min_ratio * rho[k]))
-        {
-          a = t - 1;
-          break;
-        }
-      for (int t = 1; t <= z; ++t)
-        if (std::fabs(g.range[R.pos(static_cast<std::int64_t>(k) + t)] - g.range[R.pos(static_cast<std::int64_t>(k) + t - 1)]) >
-            std::max(jump_abs, P.jump_min_ratio * rho[k]))
-        {
-          z = t - 1;
-          break;
-        }
-    }
+    const int a = std::min(w, L[k]), z = std::min(w, Rr[k]);
     wl[k] = static_cast<float>(a);
     wr[k] = static_cast<float>(z);
   }
-  for (std::uint32_t k = 0; k < K; ++k)
-  {
-    const int a = static_cast<int>(wl[k]), z = static_cast<int>(wr[k]);
-    const std::size_t lo = k + static_cast<std::size_t>(ext) - static_cast<std::size_t>(a);
-    const std::size_t hi = k + static_cast<std::size_t>(ext) + static_cast<std::size_t>(z) + 1;  // exclusive
+  // Residual variance of rho over extended indices [lo, hi): plain (Eq 10) or after removing
+  // the least-squares line through the window.
+  const bool detrend = P.smoothness_mode == SmoothnessMode::Detrended;
+  auto windowVar = [&](std::size_t lo, std::size_t hi) -> double {
     const double cnt = static_cast<double>(hi - lo);
-    if (cnt < 2)
-    {
-      out.smoothness[b + k] = cnt == 1 ? 0.0f : kNaN;
-      continue;
-    }
-    // centre everything on the window's mean index / range to keep the sums well conditioned
     const double s0 = S0[hi] - S0[lo], s1 = S1[hi] - S1[lo], s2 = S2[hi] - S2[lo];
     const double mean = s0 / cnt;
     double var = s2 / cnt - mean * mean;  // Eq 10
-    if (P.smoothness_mode == SmoothnessMode::Detrended && cnt >= 3)
+    if (detrend && cnt >= 3)
     {
       const double jbar = 0.5 * static_cast<double>(lo + hi - 1);
       const double sjj = (cnt * cnt - 1.0) * cnt / 12.0;  // sum (j - jbar)^2 over consecutive j
       const double sjr = s1 - jbar * s0;                  // sum (j - jbar) * rho
       var -= (sjr * sjr / sjj) / cnt;                     // remove the linear trend
     }
-    out.smoothness[b + k] = static_cast<float>(std::max(0.0, var));
+    return std::max(0.0, var);
+  };
+  for (std::uint32_t k = 0; k < K; ++k)
+  {
+    const int a = static_cast<int>(wl[k]), z = static_cast<int>(wr[k]);
+    const std::size_t c0 = k + static_cast<std::size_t>(ext);
+    const std::size_t lo = c0 - static_cast<std::size_t>(a);
+    const std::size_t hi = c0 + static_cast<std::size_t>(z) + 1;  // exclusive
+    if (hi - lo < 2)
+    {
+      out.smoothness[b + k] = hi - lo == 1 ? 0.0f : kNaN;
+      continue;
+    }
+    double var = windowVar(lo, hi);
+    if (detrend)
+    {
+      // Edge-preserving: a sample beside a crease has one side that lies on a single face; the
+      // best of the centred and the two one-sided windows is low there, and high only where
+      // every window is rough (vegetation, clutter).
+      if (c0 + 1 - lo >= 3) var = std::min(var, windowVar(lo, c0 + 1));
+      if (hi - c0 >= 3) var = std::min(var, windowVar(c0, hi));
+    }
+    out.smoothness[b + k] = static_cast<float>(var);
   }
 }
 

@@ -202,6 +202,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     grid.azimuth[p] = paz_[i];
     grid.grid_pos[i] = static_cast<std::int32_t>(p);
   }
+  grid.num_valid = m;
   // Duplicates and second returns point at their representative (stored as an input index).
   for (std::size_t i = 0; i < grid.num_input; ++i)
     if (grid.state[i] == PointState::Duplicate || grid.state[i] == PointState::SecondReturn)

@@ -53,6 +53,7 @@ public:
   std::size_t size() const { return data_.size() / step_; }
   std::uint32_t pointStep() const { return step_; }
   std::vector<std::uint8_t>& bytes() { return data_; }
+  const std::vector<std::uint8_t>& bytes() const { return data_; }
 
   /// View of the cloud; organized as `height` rows when height > 1.
   PointCloudView view(std::uint32_t height = 1) const

@@ -1,0 +1,265 @@
+// Scan grid: seam, gaps, ring counts, empty frames, duplicates, shuffled and organized input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "../support/ray_scene.hpp"
+#include "ring_curvature/pipeline.hpp"
+
+using namespace ring_curvature;
+using namespace ring_curvature::test;
+
+namespace
+{
+constexpr double kDeg = 3.14159265358979323846 / 180;
+
+// A square room seen from inside at its centre: four walls, four creases per ring.
+RayScene room()
+{
+  RayScene s;
+  s.ground_z = -100;  // out of range: rings stay on the walls
+  // walls as thin boxes around the sensor
+  s.boxes.push_back({6.0, 0.0, -5, 5, 0.1, 6.1, 0});
+  s.boxes.push_back({-6.0, 0.0, -5, 5, 0.1, 6.1, 0});
+  s.boxes.push_back({0.0, 6.0, -5, 5, 6.1, 0.1, 0});
+  s.boxes.push_back({0.0, -6.0, -5, 5, 6.1, 0.1, 0});
+  return s;
+}
+
+std::size_t count(const FrameResult& r, Label l)
+{
+  return static_cast<std::size_t>(std::count(r.label.begin(), r.label.end(), static_cast<std::uint8_t>(l)));
+}
+}  // namespace
+
+TEST(ScanGrid, EmptyFrameIsFine)
+{
+  SyntheticCloud c;
+  Pipeline p;
+  FrameResult r;
+  const Status st = p.process(c.view(), r);
+  EXPECT_TRUE(st.ok) << st.message;
+  EXPECT_TRUE(r.label.empty());
+  EXPECT_TRUE(r.primitives.primitives.empty());
+}
+
+TEST(ScanGrid, RingCounts16To128)
+{
+  for (int beams : {1, 16, 32, 64, 128})
+  {
+    const SensorModel s = SensorModel::uniform(beams, -10, 10, 0.4);
+    const ScannedFrame f = scan(room(), s);
+    Pipeline p;
+    FrameResult r;
+    ASSERT_TRUE(p.process(f.cloud.view(), r).ok) << beams;
+    EXPECT_EQ(p.grid().num_rings, beams);
+    EXPECT_EQ(p.grid().size(), f.cloud.size());  // every return on the grid
+    for (int n = 0; n < beams; ++n) EXPECT_TRUE(p.grid().ring_closed[static_cast<std::size_t>(n)]) << beams << " ring " << n;
+    // 4 corners per ring, each an Edge (peak only), all else Plane
+    EXPECT_EQ(count(r, Label::Edge), static_cast<std::size_t>(4 * beams)) << beams << " beams";
+    EXPECT_EQ(count(r, Label::Plane), f.cloud.size() - 4 * static_cast<std::size_t>(beams)) << beams;
+    EXPECT_NEAR(p.grid().azimuth_resolution, 0.4 * kDeg, 1e-5);
+    if (beams > 1)
+    {
+      // walls join across rings into 4 planar patches (a patch may not cross a corner)
+      std::size_t planes = 0;
+      for (const auto& pr : r.primitives.primitives) planes += pr.label == Label::Plane ? 1 : 0;
+      EXPECT_EQ(planes, 4u) << beams;
+    }
+  }
+}
+
+TEST(ScanGrid, FeatureAcrossTheSeamIsFoundOnce)
+{
+  // Rotate the room so that one corner sits exactly on the 0/360 deg seam (azimuth 180 deg),
+  // and start the sweep there: the corner's samples are split between the two ends of the ring.
+  RayScene s = room();
+  for (auto& b : s.boxes)
+  {
+    const double c = std::cos(-45 * kDeg), sn = std::sin(-45 * kDeg);
+    const double x = b.cx, y = b.cy;
+    b.cx = c * x - sn * y;
+    b.cy = sn * x + c * y;
+    b.yaw = -45 * kDeg;
+  }
+  const SensorModel m = SensorModel::uniform(4, -5, 5, 0.25);
+  const ScannedFrame f = scan(s, m, 0.0, 1, 3.14159265358979323846);  // sweep starts at the seam
+  Pipeline p;
+  FrameResult r;
+  ASSERT_TRUE(p.process(f.cloud.view(), r).ok);
+  EXPECT_EQ(count(r, Label::Edge), 16u);  // 4 corners x 4 rings, the seam corner not doubled nor lost
+  std::size_t planes = 0;
+  for (const auto& pr : r.primitives.primitives) planes += pr.label == Label::Plane ? 1 : 0;
+  EXPECT_EQ(planes, 4u);  // the wall split by the seam is one patch
+}
+
+TEST(ScanGrid, NaNGapsBreakTheCurve)
+{
+  const SensorModel m = SensorModel::uniform(1, 0, 0, 0.4);
+  ScannedFrame f = scan(room(), m);
+  // punch a 10-sample hole in the middle of a wall (azimuth 0 is the middle of the +x wall)
+  SyntheticCloud holed;
+  const std::size_t n = f.cloud.size();
+  std::vector<std::size_t> gone;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const auto* rec = f.cloud.bytes().data() + i * f.cloud.pointStep();
+    float x, y, z;
+    std::memcpy(&x, rec, 4);
+    std::memcpy(&y, rec + 4, 4);
+    std::memcpy(&z, rec + 8, 4);
+    if (i >= 100 && i < 110)
+    {
+      holed.addNaN(0);
+      gone.push_back(i);
+    }
+    else
+      holed.add(x, y, z, 0);
+  }
+  Pipeline p;
+  FrameResult r;
+  ASSERT_TRUE(p.process(holed.view(), r).ok);
+  for (std::size_t i : gone)
+  {
+    EXPECT_EQ(r.label[i], 0) << i;
+    EXPECT_TRUE(std::isnan(r.curvature[i]));
+  }
+  // no curvature invented across the hole: the samples beside it have a one-sided neighbourhood
+  EXPECT_TRUE(std::isnan(r.curvature[99]));
+  EXPECT_TRUE(std::isnan(r.curvature[110]));
+  EXPECT_EQ(r.label[99], static_cast<std::uint8_t>(Label::Plane));
+  EXPECT_EQ(count(r, Label::Edge), 4u);
+  EXPECT_EQ(p.grid().num_valid + 10, n);
+}
+
+TEST(ScanGrid, ShuffledInputGivesTheSameLabels)
+{
+  const SensorModel m = SensorModel::uniform(16, -15, 15, 0.2);
+  RayScene s = room();
+  s.ground_z = -1.8;
+  const ScannedFrame f = scan(s, m, 0.005, 3);
+  Pipeline p;
+  FrameResult ref;
+  ASSERT_TRUE(p.process(f.cloud.view(), ref).ok);
+
+  std::vector<std::size_t> perm(f.cloud.size());
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(5));
+  SyntheticCloud shuffled;
+  shuffled.bytes().resize(f.cloud.bytes().size());
+  for (std::size_t i = 0; i < perm.size(); ++i)
+    std::memcpy(shuffled.bytes().data() + i * 22, f.cloud.bytes().data() + perm[i] * 22, 22);
+  FrameResult r;
+  ASSERT_TRUE(p.process(shuffled.view(), r).ok);
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < perm.size(); ++i) same += r.label[i] == ref.label[perm[i]] ? 1 : 0;
+  EXPECT_EQ(same, perm.size());
+}
+
+TEST(ScanGrid, DualReturnDuplicatesShareTheirRepresentativeLabel)
+{
+  const SensorModel m = SensorModel::uniform(4, -5, 5, 0.4);
+  const ScannedFrame f = scan(room(), m);
+  SyntheticCloud dual;
+  const std::size_t n = f.cloud.size();
+  for (std::size_t i = 0; i < n; ++i)  // every firing twice, as a dual-return driver emits them
+    for (int t = 0; t < 2; ++t)
+      dual.bytes().insert(dual.bytes().end(), f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * 22),
+                          f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * 22 + 22));
+  Pipeline p;
+  FrameResult single, r;
+  ASSERT_TRUE(p.process(f.cloud.view(), single).ok);
+  ASSERT_TRUE(p.process(dual.view(), r).ok);
+  EXPECT_EQ(p.grid().num_duplicates, n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    EXPECT_EQ(r.label[2 * i], single.label[i]);
+    EXPECT_EQ(r.label[2 * i + 1], single.label[i]);
+    EXPECT_EQ(r.primitive[2 * i], r.primitive[2 * i + 1]);
+  }
+  // primitives list both copies
+  for (const auto& pr : r.primitives.primitives)
+    for (std::uint32_t j = 0; j < pr.num_points; ++j)
+      EXPECT_EQ(r.primitive[r.primitives.indices[pr.first + j]], static_cast<std::int32_t>(pr.id));
+}
+
+TEST(ScanGrid, OrganizedCloudUsesRowsAndColumns)
+{
+  // Ouster-like: rows are beams, ring 0 at the top, NaN where there is no return.
+  const SensorModel m = SensorModel::uniform(8, -10, 10, 360.0 / 512);
+  RayScene s = room();
+  const ScannedFrame f = scan(s, m);
+  // reverse row order (ring 0 = highest) and drop a few returns (at other columns on each row)
+  SyntheticCloud org;
+  const std::size_t cols = f.cloud.size() / 8;
+  for (int row = 7; row >= 0; --row)
+    for (std::size_t c = 0; c < cols; ++c)
+    {
+      const std::size_t i = static_cast<std::size_t>(row) * cols + c;
+      if (c % 50 == static_cast<std::size_t>(7 + 3 * row))
+      {
+        org.addNaN(7 - row);
+        continue;
+      }
+      float x, y, z;
+      std::memcpy(&x, f.cloud.bytes().data() + i * 22, 4);
+      std::memcpy(&y, f.cloud.bytes().data() + i * 22 + 4, 4);
+      std::memcpy(&z, f.cloud.bytes().data() + i * 22 + 8, 4);
+      org.add(x, y, z, 7 - row);
+    }
+  Pipeline p;
+  FrameResult r;
+  ASSERT_TRUE(p.process(org.view(8), r).ok);
+  EXPECT_TRUE(p.grid().organized);
+  EXPECT_EQ(p.grid().num_rings, 8);
+  EXPECT_EQ(count(r, Label::Edge), 32u);
+  std::size_t planes = 0;
+  for (const auto& pr : r.primitives.primitives) planes += pr.label == Label::Plane ? 1 : 0;
+  EXPECT_EQ(planes, 4u);
+}
+
+TEST(ScanGrid, RejectsBadViewsWithAClearMessage)
+{
+  SyntheticCloud c;
+  c.add(1, 2, 3, 0);
+  c.add(1, 2, 3.1, 0);
+  Pipeline p;
+  FrameResult r;
+  PointCloudView v = c.view();
+  v.ring = {};
+  Status st = p.process(v, r);
+  EXPECT_FALSE(st.ok);
+  EXPECT_NE(st.message.find("ring"), std::string::npos) << st.message;
+  v = c.view();
+  v.ring.type = ScalarType::Float32;
+  st = p.process(v, r);
+  EXPECT_NE(st.message.find("integer"), std::string::npos) << st.message;
+  v = c.view();
+  v.data_size -= 1;
+  st = p.process(v, r);
+  EXPECT_NE(st.message.find("truncated"), std::string::npos) << st.message;
+  v = c.view();
+  v.x.offset = 20;
+  st = p.process(v, r);
+  EXPECT_NE(st.message.find("outside the point record"), std::string::npos) << st.message;
+  v = c.view();
+  v.y.offset = 2;
+  st = p.process(v, r);
+  EXPECT_NE(st.message.find("overlap"), std::string::npos) << st.message;
+  Params small;
+  small.max_rings = 1;
+  Pipeline q(small);
+  c.add(1, 2, 3.2, 5);
+  st = q.process(c.view(), r);
+  EXPECT_NE(st.message.find("max_rings"), std::string::npos) << st.message;
+  // and the next good frame is processed normally
+  SyntheticCloud good;
+  good.add(1, 2, 3, 0);
+  good.add(1, 2.1, 3, 0);
+  good.add(1, 2.2, 3, 0);
+  EXPECT_TRUE(q.process(good.view(), r).ok);
+  EXPECT_EQ(r.label.size(), 3u);
+}
