@@ -1,1 +1,21 @@
-# (filled in by its part)
+# Robustness: malformed and degenerate input through the core (gtest). The sanitizer build
+# (test/sanitize/, run by scripts/test.d/40-sanitizers) and the fuzz target (test/fuzz/, run by
+# scripts/test.d/50-fuzz) are separate clang projects, because catkin's gcc build cannot carry
+# -fsanitize=fuzzer and instrumenting the whole catkin build would slow every other test.
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(robustness_malformed_cloud test/robustness/malformed_cloud_test.cpp)
+  if(TARGET robustness_malformed_cloud)
+    # catkin_add_gtest links gtest without its main()
+    target_link_libraries(robustness_malformed_cloud ring_curvature_core GTest::gtest_main)
+    target_compile_options(robustness_malformed_cloud PRIVATE ${RC_WARNINGS})
+  endif()
+  # The same malformed clouds as sensor_msgs/PointCloud2 through the adapter and FrameProcessor.
+  catkin_add_gtest(robustness_malformed_msg test/robustness/malformed_msg_test.cpp)
+  if(TARGET robustness_malformed_msg)
+    target_link_libraries(robustness_malformed_msg ring_curvature_ros GTest::gtest_main)
+    target_compile_options(robustness_malformed_msg PRIVATE ${RC_WARNINGS})
+  endif()
+  # ... and through the running nodelet, with diagnostics checked (Python checker).
+  find_package(rostest REQUIRED)
+  add_rostest(test/robustness/malformed_nodelet.test DEPENDENCIES ring_curvature_ros)
+endif()

@@ -51,7 +51,7 @@ struct Params
 
   // --- features --------------------------------------------------------------------------
   CurvatureMode curvature_mode = CurvatureMode::Chord;
-  float chord_length = 0.15f;           ///< [m] Chord mode: shortest chord used for the turning angle
+  float chord_length = 0.25f;           ///< [m] Chord mode: shortest chord (0.25 measured best, docs/evaluation)
   int max_chord_samples = 6;            ///< Chord mode: longest chord, in samples
   SmoothnessMode smoothness_mode = SmoothnessMode::Detrended;
   int smoothness_window = 3;            ///< w of Eq 10: window is 2w + 1 samples
@@ -65,6 +65,8 @@ struct Params
   float edge_min_angle_deg = 30.0f;     ///< Robust: smallest turning angle called a crease
   float jump_min_ratio = 0.03f;         ///< Robust, Jump mode: smallest depth jump / range
   bool non_max_suppression = true;      ///< Robust: keep only the peak of an Edge/Corner run
+  bool use_curvature = true;            ///< ablation (paper Table 2, Ours-NoCurv): false ignores kappa
+  bool use_smoothness = true;           ///< ablation (paper Table 2, Ours-NoSmooth): false ignores S
 
   // --- primitives (section 4.3) ----------------------------------------------------------
   float proximity_azimuth_factor = 1.5f;  ///< Eq 19: d theta_tol = factor * azimuth resolution

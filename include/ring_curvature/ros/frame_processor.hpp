@@ -1,0 +1,87 @@
+// One frame in, every output message out: the code path shared by the nodelet and the offline
+// process_bag tool, so that what a bag run measures is what the nodelet publishes.
+//
+// This header does not include the core's pipeline.hpp: the core's ring_curvature::Primitive and
+// the generated message ring_curvature::Primitive cannot meet in one translation unit, and users
+// of this header publish or write the PrimitiveArray message (see primitive_message.hpp).
+#pragma once
+
+#include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <array>
+#include <cstddef>
+#include <memory>
+
+#include "ring_curvature/params.hpp"
+#include "ring_curvature/ros/primitive_message.hpp"
+#include "ring_curvature/types.hpp"
+
+namespace ring_curvature
+{
+
+struct FrameResult;
+
+/// Which outputs to build (the nodelet skips the ones nobody subscribes to).
+struct OutputSelection
+{
+  bool labelled = true, primitives = true, edges = true, planes = true, markers = true;
+};
+
+/// Freshly allocated messages of one frame; null where not selected.
+struct Outputs
+{
+  sensor_msgs::PointCloud2Ptr labelled;  ///< input + curvature/smoothness/discontinuity/primitive/label
+  PrimitiveArrayPtr primitives;
+  sensor_msgs::PointCloud2Ptr edges;     ///< Edge and Corner points, input layout
+  sensor_msgs::PointCloud2Ptr planes;    ///< Plane points, input layout
+  visualization_msgs::MarkerArrayPtr markers;
+};
+
+/// What diagnostics and summaries need from one frame.
+struct FrameSummary
+{
+  std::size_t points = 0;
+  std::array<std::size_t, kNumLabels> label_counts{};
+  std::size_t primitives = 0;
+  /// [ms] core stages (grid, features, thresholds, classification, primitives, core output),
+  /// then building the ROS messages.
+  double grid_ms = 0, features_ms = 0, thresholds_ms = 0, classification_ms = 0, primitives_ms = 0,
+         core_output_ms = 0, messages_ms = 0;
+  double coreMs() const { return grid_ms + features_ms + thresholds_ms + classification_ms + primitives_ms + core_output_ms; }
+};
+
+class FrameProcessor
+{
+public:
+  explicit FrameProcessor(const Params& params = Params());
+  ~FrameProcessor();
+
+  /// Replaces the parameters (validated; on error the old ones stay).
+  Status setParams(const Params& params);
+  const Params& params() const;
+
+  /// Reads `msg` in place (never copied), runs the pipeline and builds the selected outputs,
+  /// all with msg's header. On error `out` is left empty and the status names the problem.
+  Status process(const sensor_msgs::PointCloud2& msg, Outputs& out, const OutputSelection& select = {});
+  Status process(const sensor_msgs::PointCloud2ConstPtr& msg, Outputs& out, const OutputSelection& select = {})
+  {
+    return process(*msg, out, select);
+  }
+
+  /// Counts and timings of the last successful frame.
+  const FrameSummary& summary() const { return summary_; }
+  /// The core's full result of the last successful frame (include pipeline.hpp to use it).
+  const FrameResult& result() const;
+  /// Address of the point buffer the last frame was read from (the zero-copy test compares it
+  /// with the publisher's buffer).
+  const void* lastInputData() const { return last_input_data_; }
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  FrameSummary summary_;
+  const void* last_input_data_ = nullptr;
+};
+
+}  // namespace ring_curvature

@@ -1,0 +1,60 @@
+// rviz markers for the primitives of one frame, and the one label palette shared by the markers,
+// config/ring_curvature.rviz and the screenshot checker (test/viz/check_screenshot.py parses
+// kLabelPalette from this file, so edit the colours here only).
+//
+// Final signature (called by the nodelet once per frame, only while ~markers has subscribers):
+//
+//   visualization_msgs::MarkerArrayPtr ring_curvature::makePrimitiveMarkers(
+//       const PrimitiveSet& prims, const PointCloudView& cloud, const std_msgs::Header& header);
+//
+// `cloud` is the same view that was given to Pipeline::process (the primitives' indices point
+// into it); the points are read in place to order edge chains and size plane patches.
+// The array starts with a DELETEALL, so markers of the previous frame never linger, whatever
+// their number, and a restarted nodelet needs no memory of what it drew before.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <std_msgs/Header.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "ring_curvature/primitives.hpp"
+#include "ring_curvature/types.hpp"
+
+namespace ring_curvature
+{
+
+struct Rgb8
+{
+  std::uint8_t r, g, b;
+};
+
+/// Colour of each Label value (index = label): none grey, plane blue, edge red, corner yellow,
+/// rough green. Saturated and far apart so that a screenshot can be checked pixel by pixel.
+constexpr std::array<Rgb8, kNumLabels> kLabelPalette = {{
+    {150, 150, 150},  // None
+    {40, 110, 255},   // Plane
+    {255, 30, 30},    // Edge
+    {255, 220, 0},    // Corner
+    {30, 200, 60},    // Rough
+}};
+
+/// Marker namespaces, one per kind, so each can be switched off in rviz's Markers display.
+/// A marker's id is the id of its primitive (index in the PrimitiveArray message).
+constexpr const char* kPlaneNs = "planes";
+constexpr const char* kNormalNs = "plane_normals";
+constexpr const char* kEdgeNs = "edges";
+constexpr const char* kCornerNs = "corners";
+constexpr const char* kRoughNs = "rough";
+
+/// Plane patches: a TRIANGLE_LIST quad spanning the patch's points in its own plane (centroid,
+/// normal = Primitive::axis, in-plane principal direction from the points) plus an ARROW along
+/// the normal. Edge chains: a LINE_STRIP through the points ordered along the edge's axis.
+/// Corner clusters and rough clusters: a SPHERE_LIST of their points. Colours: kLabelPalette.
+/// Primitives whose indices fall outside `cloud` or whose points are all non-finite are skipped.
+visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prims,
+                                                        const PointCloudView& cloud,
+                                                        const std_msgs::Header& header);
+
+}  // namespace ring_curvature

@@ -1,0 +1,28 @@
+// Cloud outputs built from one FrameResult: the labelled cloud (input + per-point results) and
+// the edge / plane landmark clouds in the input's own layout. (The primitive array is built in
+// primitive_message.hpp: see there why.)
+#pragma once
+
+#include <sensor_msgs/PointCloud2.h>
+
+#include "ring_curvature/pipeline.hpp"
+
+namespace ring_curvature
+{
+
+/// Names of the fields appended to the labelled cloud.
+constexpr const char* kAppendedFieldNames[5] = {"curvature", "smoothness", "discontinuity", "primitive", "label"};
+
+/// New cloud: every input record copied once, followed by `curvature`, `smoothness`,
+/// `discontinuity` (float32), `primitive` (int32) and `label` (uint8), starting at the first
+/// 4-byte boundary after the input record; the record is padded to a multiple of 4 bytes.
+/// An input field whose name clashes with an appended one is kept, renamed `input_<name>`.
+/// Same header, width, height and point order as the input.
+sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result);
+
+/// New unorganized cloud in the input's layout (every field, time included) holding the input
+/// points whose label is `a` or `b`, in input order.
+sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& input, const FrameResult& result,
+                                            Label a, Label b);
+
+}  // namespace ring_curvature

@@ -1,0 +1,82 @@
+// The ROS wrapper: subscribes to a cloud lazily, runs a FrameProcessor, publishes its outputs
+// by shared pointer (zero copy inside a nodelet manager). Holds no algorithm and no static
+// state: several instances in one manager (one per LiDAR) are independent.
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+
+#include <array>
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "ring_curvature/PrimitiveArray.h"
+#include "ring_curvature/RingCurvatureConfig.h"
+#include "ring_curvature/ros/frame_processor.hpp"
+
+namespace ring_curvature
+{
+
+/// Counters and addresses the nodelet exposes (diagnostics; the in-process tests use them to
+/// prove laziness and zero copy).
+struct NodeletStats
+{
+  std::size_t frames_received = 0, frames_processed = 0, frames_rejected = 0;
+  /// Frames the input queue dropped before the callback saw them. roscpp drops silently, so they
+  /// are inferred from gaps in header.seq (ROS 1 publishers number their messages); publishers
+  /// that leave seq constant show 0.
+  std::size_t frames_dropped = 0;
+  bool have_last_seq = false;  ///< reset on (re)subscription: a lazy pause is not a drop
+  std::uint32_t last_seq = 0;
+  std::string last_error;
+  const void* last_input_msg = nullptr;   ///< address of the last input message object
+  const void* last_input_data = nullptr;  ///< address of the point buffer the pipeline read
+  const void* last_labelled = nullptr;    ///< addresses of the last published outputs
+  const void* last_primitives = nullptr;
+  const void* last_edges = nullptr;
+  const void* last_planes = nullptr;
+};
+
+class RingCurvatureNodelet : public nodelet::Nodelet
+{
+public:
+  RingCurvatureNodelet() = default;
+  ~RingCurvatureNodelet() override;
+
+  NodeletStats stats() const;
+
+private:
+  void onInit() override;
+  void connectCb();
+  void cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg);
+  void reconfigureCb(RingCurvatureConfig& config, uint32_t level);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void publishOutputs(Outputs& out);
+
+  // Held across advertise() so connectCb never sees half-made publishers.
+  std::mutex connect_mutex_;
+  ros::Subscriber sub_;
+  std::atomic<bool> subscribed_{false};  // sub_ as seen from other threads (diagnostics)
+  ros::Publisher pub_labelled_, pub_primitives_, pub_edges_, pub_planes_, pub_markers_;
+  int queue_size_ = 1;
+
+  // Guards processor_ (its parameters change from the reconfigure callback) and stats_.
+  mutable std::mutex process_mutex_;
+  std::unique_ptr<FrameProcessor> processor_;
+  NodeletStats stats_;
+  std::array<std::size_t, kNumLabels> label_totals_{};
+  FrameSummary last_summary_;
+  std::size_t frames_in_window_ = 0;
+  ros::WallTime window_start_;
+
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<RingCurvatureConfig>> reconfigure_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diag_timer_;
+};
+
+}  // namespace ring_curvature

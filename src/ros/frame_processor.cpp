@@ -1,0 +1,103 @@
+#include "ring_curvature/ros/frame_processor.hpp"
+
+#include <chrono>
+#include <vector>
+
+#include "ring_curvature/pipeline.hpp"
+#include "ring_curvature/ros/cloud_adapter.hpp"
+#include "ring_curvature/ros/markers.hpp"
+#include "ring_curvature/ros/outputs.hpp"
+
+namespace ring_curvature
+{
+
+struct FrameProcessor::Impl
+{
+  explicit Impl(const Params& p) : pipeline(p) {}
+  Pipeline pipeline;
+  FrameResult result;
+  std::vector<PrimitiveRecord> records;  // reused between frames
+};
+
+FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
+FrameProcessor::~FrameProcessor() = default;
+
+Status FrameProcessor::setParams(const Params& params) { return impl_->pipeline.setParams(params); }
+const Params& FrameProcessor::params() const { return impl_->pipeline.params(); }
+const FrameResult& FrameProcessor::result() const { return impl_->result; }
+
+namespace
+{
+void copy3(const Eigen::Vector3f& v, float out[3])
+{
+  out[0] = v.x();
+  out[1] = v.y();
+  out[2] = v.z();
+}
+
+void toRecords(const PrimitiveSet& set, std::vector<PrimitiveRecord>& records)
+{
+  records.resize(set.primitives.size());
+  for (std::size_t k = 0; k < set.primitives.size(); ++k)
+  {
+    const auto& p = set.primitives[k];
+    PrimitiveRecord& r = records[k];
+    r.id = p.id;
+    r.label = static_cast<std::uint8_t>(p.label);
+    r.num_points = p.num_points;
+    r.first = p.first;
+    copy3(p.centroid, r.centroid);
+    copy3(p.axis, r.axis);
+    copy3(p.eigenvalues, r.eigenvalues);
+    copy3(p.bbox_min, r.bbox_min);
+    copy3(p.bbox_max, r.bbox_max);
+    r.rms_error = p.rms_error;
+    r.ring_min = p.ring_min;
+    r.ring_max = p.ring_max;
+  }
+}
+}  // namespace
+
+Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out, const OutputSelection& select)
+{
+  out = Outputs();
+  PointCloudView view;
+  Status s = makeView(msg, impl_->pipeline.params(), view);
+  if (!s)
+    return s;
+  last_input_data_ = view.data;
+  FrameResult& r = impl_->result;
+  s = impl_->pipeline.process(view, r);
+  if (!s)
+    return s;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  if (select.labelled)
+    out.labelled = makeLabelledCloud(msg, r);
+  if (select.primitives)
+  {
+    toRecords(r.primitives, impl_->records);
+    out.primitives = makePrimitiveArray(msg.header, impl_->records, r.primitives.indices);
+  }
+  if (select.edges)
+    out.edges = makeLabelSubset(msg, r, Label::Edge, Label::Corner);
+  if (select.planes)
+    out.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane);
+  if (select.markers)
+    out.markers = makePrimitiveMarkers(r.primitives, view, msg.header);
+
+  FrameSummary& f = summary_;
+  f.points = r.label.size();
+  f.label_counts = r.label_counts;
+  f.primitives = r.primitives.primitives.size();
+  f.grid_ms = r.times.grid;
+  f.features_ms = r.times.features;
+  f.thresholds_ms = r.times.thresholds;
+  f.classification_ms = r.times.classification;
+  f.primitives_ms = r.times.primitives;
+  f.core_output_ms = r.times.output;
+  f.messages_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return Status::success();
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,228 @@
+// Primitives of one frame as rviz markers (see markers.hpp for the shapes and the palette).
+#include "ring_curvature/ros/markers.hpp"
+
+#include <Eigen/Geometry>
+#include <boost/make_shared.hpp>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace ring_curvature
+{
+namespace
+{
+
+// Sizes in metres: thick enough to read at the 10-30 m scale of a VLP-16 scene in rviz.
+constexpr double kEdgeLineWidth = 0.05;
+constexpr double kCornerSphere = 0.15;
+constexpr double kRoughSphere = 0.08;
+constexpr double kNormalShaft = 0.03;
+constexpr float kNormalMinLength = 0.3f, kNormalMaxLength = 1.0f;
+constexpr float kPlaneAlpha = 0.6f;  // see-through, so the labelled points under it stay visible
+
+std_msgs::ColorRGBA colourOf(Label label, float alpha)
+{
+  const Rgb8 c = kLabelPalette[static_cast<std::size_t>(label)];
+  std_msgs::ColorRGBA out;
+  out.r = static_cast<float>(c.r) / 255.0f;
+  out.g = static_cast<float>(c.g) / 255.0f;
+  out.b = static_cast<float>(c.b) / 255.0f;
+  out.a = alpha;
+  return out;
+}
+
+geometry_msgs::Point toPoint(const Eigen::Vector3f& v)
+{
+  geometry_msgs::Point p;
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
+  return p;
+}
+
+/// The finite points of one primitive, read in place from the view. Empty when any index is out
+/// of range (a primitive set that does not belong to this cloud: draw nothing rather than garbage).
+std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const Primitive& prim,
+                                      const PointCloudView& cloud)
+{
+  std::vector<Eigen::Vector3f> pts;
+  const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
+  if (end > prims.indices.size() || cloud.data == nullptr || !cloud.x.present() ||
+      !cloud.y.present() || !cloud.z.present())
+    return pts;
+  pts.reserve(prim.num_points);
+  for (std::size_t k = prim.first; k < end; ++k)
+  {
+    const std::uint32_t i = prims.indices[k];
+    if (i >= cloud.size())
+      return {};
+    const std::uint8_t* rec = cloud.record(i);
+    if (static_cast<std::size_t>(rec - cloud.data) + cloud.point_step > cloud.data_size)
+      return {};
+    const Eigen::Vector3f p(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
+                            static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
+                            static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
+    if (p.allFinite())
+      pts.push_back(p);
+  }
+  return pts;
+}
+
+visualization_msgs::Marker baseMarker(const std_msgs::Header& header, const char* ns,
+                                      const Primitive& prim, std::int32_t type)
+{
+  visualization_msgs::Marker m;
+  m.header = header;
+  m.ns = ns;
+  m.id = static_cast<std::int32_t>(prim.id);
+  m.type = type;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;  // points are given in the header's frame
+  return m;
+}
+
+/// A unit vector perpendicular to n (n need not be normalised).
+Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
+{
+  const Eigen::Vector3f helper =
+      std::abs(n.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
+  return n.cross(helper).normalized();
+}
+
+void addPlane(const Primitive& prim, const std::vector<Eigen::Vector3f>& pts,
+              const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
+{
+  Eigen::Vector3f n = prim.axis;
+  if (!(n.squaredNorm() > 0.0f) || !n.allFinite())
+    return;
+  n.normalize();
+  // In-plane principal direction from the points' 2-D covariance, so the quad follows the patch
+  // (a wall strip seen by 16 rings is long and thin; a square would misdraw it).
+  const Eigen::Vector3f u0 = anyPerpendicular(n), v0 = n.cross(u0);
+  float cuu = 0, cvv = 0, cuv = 0;
+  for (const auto& p : pts)
+  {
+    const Eigen::Vector3f d = p - prim.centroid;
+    const float qu = d.dot(u0), qv = d.dot(v0);
+    cuu += qu * qu;
+    cvv += qv * qv;
+    cuv += qu * qv;
+  }
+  // Major axis of a 2x2 covariance in closed form (no iterative solver for two dimensions).
+  const float angle = 0.5f * std::atan2(2.0f * cuv, cuu - cvv);
+  const Eigen::Vector3f u = (std::cos(angle) * u0 + std::sin(angle) * v0).normalized();
+  const Eigen::Vector3f v = n.cross(u);
+  float umin = 0, umax = 0, vmin = 0, vmax = 0;
+  for (const auto& p : pts)
+  {
+    const Eigen::Vector3f d = p - prim.centroid;
+    umin = std::min(umin, d.dot(u));
+    umax = std::max(umax, d.dot(u));
+    vmin = std::min(vmin, d.dot(v));
+    vmax = std::max(vmax, d.dot(v));
+  }
+  // A single-ring patch has no extent across the ring: give it a sliver so it is still drawn.
+  const float min_half = 0.02f;
+  vmin = std::min(vmin, -min_half);
+  vmax = std::max(vmax, min_half);
+  umin = std::min(umin, -min_half);
+  umax = std::max(umax, min_half);
+  const Eigen::Vector3f c = prim.centroid;
+  const Eigen::Vector3f a = c + umin * u + vmin * v, b = c + umax * u + vmin * v,
+                        d = c + umax * u + vmax * v, e = c + umin * u + vmax * v;
+
+  auto quad = baseMarker(header, kPlaneNs, prim, visualization_msgs::Marker::TRIANGLE_LIST);
+  quad.scale.x = quad.scale.y = quad.scale.z = 1.0;
+  quad.color = colourOf(Label::Plane, kPlaneAlpha);
+  // Both windings: rviz culls and darkens back faces, and the patch is seen from either side.
+  for (const auto* corner : {&a, &b, &d, &a, &d, &e, &a, &d, &b, &a, &e, &d})
+    quad.points.push_back(toPoint(*corner));
+  out.markers.push_back(std::move(quad));
+
+  const float size = std::max(umax - umin, vmax - vmin);
+  const float length = std::clamp(0.5f * size, kNormalMinLength, kNormalMaxLength);
+  auto arrow = baseMarker(header, kNormalNs, prim, visualization_msgs::Marker::ARROW);
+  arrow.scale.x = kNormalShaft;        // shaft diameter
+  arrow.scale.y = 2.0 * kNormalShaft;  // head diameter
+  arrow.scale.z = 3.0 * kNormalShaft;  // head length
+  arrow.color = colourOf(Label::Plane, 1.0f);
+  arrow.points.push_back(toPoint(c));
+  arrow.points.push_back(toPoint(c + length * n));
+  out.markers.push_back(std::move(arrow));
+}
+
+void addEdge(const Primitive& prim, std::vector<Eigen::Vector3f> pts,
+             const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
+{
+  if (pts.size() < 2)
+    return;
+  // Grid order is ring-major, not along the edge; ordering by position on the principal axis
+  // gives one clean stroke for both vertical (across rings) and along-ring chains.
+  Eigen::Vector3f axis = prim.axis;
+  if (!(axis.squaredNorm() > 0.0f) || !axis.allFinite())
+    axis = pts.back() - pts.front();
+  const Eigen::Vector3f c = prim.centroid;
+  std::sort(pts.begin(), pts.end(), [&](const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
+    return (p - c).dot(axis) < (q - c).dot(axis);
+  });
+  auto line = baseMarker(header, kEdgeNs, prim, visualization_msgs::Marker::LINE_STRIP);
+  line.scale.x = kEdgeLineWidth;
+  line.color = colourOf(Label::Edge, 1.0f);
+  for (const auto& p : pts)
+    line.points.push_back(toPoint(p));
+  out.markers.push_back(std::move(line));
+}
+
+void addCluster(const Primitive& prim, const std::vector<Eigen::Vector3f>& pts,
+                const std_msgs::Header& header, const char* ns, double diameter,
+                visualization_msgs::MarkerArray& out)
+{
+  auto spheres = baseMarker(header, ns, prim, visualization_msgs::Marker::SPHERE_LIST);
+  spheres.scale.x = spheres.scale.y = spheres.scale.z = diameter;
+  spheres.color = colourOf(prim.label, 1.0f);
+  for (const auto& p : pts)
+    spheres.points.push_back(toPoint(p));
+  out.markers.push_back(std::move(spheres));
+}
+
+}  // namespace
+
+visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prims,
+                                                        const PointCloudView& cloud,
+                                                        const std_msgs::Header& header)
+{
+  auto out = boost::make_shared<visualization_msgs::MarkerArray>();
+  out->markers.reserve(2 * prims.primitives.size() + 1);
+  visualization_msgs::Marker clear;
+  clear.header = header;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  out->markers.push_back(std::move(clear));
+
+  for (const Primitive& prim : prims.primitives)
+  {
+    const std::vector<Eigen::Vector3f> pts = pointsOf(prims, prim, cloud);
+    if (pts.empty())
+      continue;
+    switch (prim.label)
+    {
+      case Label::Plane:
+        addPlane(prim, pts, header, *out);
+        break;
+      case Label::Edge:
+        addEdge(prim, pts, header, *out);
+        break;
+      case Label::Corner:
+        addCluster(prim, pts, header, kCornerNs, kCornerSphere, *out);
+        break;
+      case Label::Rough:
+        addCluster(prim, pts, header, kRoughNs, kRoughSphere, *out);
+        break;
+      case Label::None:
+        break;
+    }
+  }
+  return out;
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,67 @@
+#include "ring_curvature/ros/param_loading.hpp"
+
+namespace ring_curvature
+{
+
+RingCurvatureConfig toConfig(const Params& p)
+{
+  RingCurvatureConfig c = RingCurvatureConfig::__getDefault__();
+  c.min_range = p.min_range;
+  c.max_range = p.max_range;
+  c.azimuth_resolution_deg = p.azimuth_resolution_deg;
+  c.max_gap_samples = p.max_gap_samples;
+  c.curvature_mode = static_cast<int>(p.curvature_mode);
+  c.chord_length = p.chord_length;
+  c.max_chord_samples = p.max_chord_samples;
+  c.smoothness_mode = static_cast<int>(p.smoothness_mode);
+  c.smoothness_window = p.smoothness_window;
+  c.discontinuity_mode = static_cast<int>(p.discontinuity_mode);
+  c.range_noise = p.range_noise;
+  c.classifier_mode = static_cast<int>(p.classifier_mode);
+  c.robust_k = p.robust_k;
+  c.noise_floor_k = p.noise_floor_k;
+  c.edge_min_angle_deg = p.edge_min_angle_deg;
+  c.jump_min_ratio = p.jump_min_ratio;
+  c.non_max_suppression = p.non_max_suppression;
+  c.use_curvature = p.use_curvature;
+  c.use_smoothness = p.use_smoothness;
+  c.proximity_azimuth_factor = p.proximity_azimuth_factor;
+  c.proximity_range_ratio = p.proximity_range_ratio;
+  c.proximity_range_min = p.proximity_range_min;
+  c.min_primitive_points = p.min_primitive_points;
+  c.rough_primitives = p.rough_primitives;
+  return c;
+}
+
+Params fromConfig(const RingCurvatureConfig& c, const Params& base)
+{
+  Params p = base;  // max_rings, ring_from_elevation, duplicate_azimuth_fraction: start-up only
+  p.min_range = static_cast<float>(c.min_range);
+  p.max_range = static_cast<float>(c.max_range);
+  p.azimuth_resolution_deg = static_cast<float>(c.azimuth_resolution_deg);
+  p.max_gap_samples = c.max_gap_samples;
+  // The .cfg enums use the same integer values as the C++ enums.
+  p.curvature_mode = static_cast<CurvatureMode>(c.curvature_mode);
+  p.chord_length = static_cast<float>(c.chord_length);
+  p.max_chord_samples = c.max_chord_samples;
+  p.smoothness_mode = static_cast<SmoothnessMode>(c.smoothness_mode);
+  p.smoothness_window = c.smoothness_window;
+  p.discontinuity_mode = static_cast<DiscontinuityMode>(c.discontinuity_mode);
+  p.range_noise = static_cast<float>(c.range_noise);
+  p.classifier_mode = static_cast<ClassifierMode>(c.classifier_mode);
+  p.robust_k = static_cast<float>(c.robust_k);
+  p.noise_floor_k = static_cast<float>(c.noise_floor_k);
+  p.edge_min_angle_deg = static_cast<float>(c.edge_min_angle_deg);
+  p.jump_min_ratio = static_cast<float>(c.jump_min_ratio);
+  p.non_max_suppression = c.non_max_suppression;
+  p.use_curvature = c.use_curvature;
+  p.use_smoothness = c.use_smoothness;
+  p.proximity_azimuth_factor = static_cast<float>(c.proximity_azimuth_factor);
+  p.proximity_range_ratio = static_cast<float>(c.proximity_range_ratio);
+  p.proximity_range_min = static_cast<float>(c.proximity_range_min);
+  p.min_primitive_points = c.min_primitive_points;
+  p.rough_primitives = c.rough_primitives;
+  return p;
+}
+
+}  // namespace ring_curvature

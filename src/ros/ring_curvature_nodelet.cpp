@@ -1,0 +1,225 @@
+#include "ring_curvature/ros/ring_curvature_nodelet.hpp"
+
+#include <pluginlib/class_list_macros.hpp>
+
+#include <stdexcept>
+
+#include "ring_curvature/ros/param_loading.hpp"
+
+namespace ring_curvature
+{
+
+RingCurvatureNodelet::~RingCurvatureNodelet()
+{
+  // Stop callbacks that reference members before the members go.
+  diag_timer_.stop();
+  sub_.shutdown();
+}
+
+void RingCurvatureNodelet::onInit()
+{
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+
+  Params params;
+  const Status s = loadParams(pnh, params);
+  if (!s)
+  {
+    // Fail loudly at start-up rather than run with parameters the user did not ask for.
+    NODELET_FATAL("invalid parameters: %s", s.message.c_str());
+    throw std::runtime_error("ring_curvature: invalid parameters: " + s.message);
+  }
+  pnh.param("queue_size", queue_size_, queue_size_);
+  if (queue_size_ < 1)
+  {
+    NODELET_FATAL("parameter '%s' must be >= 1 (got %d)", pnh.resolveName("queue_size").c_str(), queue_size_);
+    throw std::runtime_error("ring_curvature: invalid parameter queue_size");
+  }
+  processor_ = std::make_unique<FrameProcessor>(params);
+  window_start_ = ros::WallTime::now();
+
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<RingCurvatureConfig>>(reconfigure_mutex_, pnh);
+  // Start from the loaded parameters, not the .cfg defaults.
+  reconfigure_->updateConfig(toConfig(params));
+  reconfigure_->setCallback(
+      [this](RingCurvatureConfig& config, uint32_t level) { reconfigureCb(config, level); });
+
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+  updater_->setHardwareID("none");
+  updater_->add("processing", this, &RingCurvatureNodelet::diagnose);
+  diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->update(); });
+
+  const ros::SubscriberStatusCallback cb = [this](const ros::SingleSubscriberPublisher&) { connectCb(); };
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  pub_labelled_ = pnh.advertise<sensor_msgs::PointCloud2>("labelled_points", 1, cb, cb);
+  pub_primitives_ = pnh.advertise<PrimitiveArray>("primitives", 1, cb, cb);
+  pub_edges_ = pnh.advertise<sensor_msgs::PointCloud2>("edges", 1, cb, cb);
+  pub_planes_ = pnh.advertise<sensor_msgs::PointCloud2>("planes", 1, cb, cb);
+  pub_markers_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, cb, cb);
+  NODELET_INFO("ready: subscribes to %s lazily (while an output has subscribers), outputs in %s",
+               nh.resolveName("velodyne_points").c_str(), pnh.getNamespace().c_str());
+}
+
+void RingCurvatureNodelet::connectCb()
+{
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  const bool wanted = pub_labelled_.getNumSubscribers() + pub_primitives_.getNumSubscribers() +
+                          pub_edges_.getNumSubscribers() + pub_planes_.getNumSubscribers() +
+                          pub_markers_.getNumSubscribers() >
+                      0;
+  if (wanted && !sub_)
+  {
+    {
+      std::lock_guard<std::mutex> stats_lock(process_mutex_);
+      stats_.have_last_seq = false;  // frames published while unsubscribed were not dropped
+    }
+    sub_ = getNodeHandle().subscribe("velodyne_points", static_cast<std::uint32_t>(queue_size_),
+                                     &RingCurvatureNodelet::cloudCb, this);
+    subscribed_ = true;
+  }
+  else if (!wanted && sub_)
+  {
+    sub_.shutdown();
+    subscribed_ = false;
+  }
+}
+
+void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
+{
+  // Nothing may escape a callback: in a manager an exception would take down every nodelet.
+  try
+  {
+    OutputSelection select;
+    select.labelled = pub_labelled_.getNumSubscribers() > 0;
+    select.primitives = pub_primitives_.getNumSubscribers() > 0;
+    select.edges = pub_edges_.getNumSubscribers() > 0;
+    select.planes = pub_planes_.getNumSubscribers() > 0;
+    select.markers = pub_markers_.getNumSubscribers() > 0;
+
+    Outputs out;
+    Status s;
+    {
+      std::lock_guard<std::mutex> lock(process_mutex_);
+      ++stats_.frames_received;
+      ++frames_in_window_;
+      const std::uint32_t seq = msg->header.seq;
+      if (stats_.have_last_seq && seq > stats_.last_seq + 1 && seq - stats_.last_seq < 100000u)
+        stats_.frames_dropped += seq - stats_.last_seq - 1;  // a restart (seq decreasing) is not a drop
+      stats_.have_last_seq = true;
+      stats_.last_seq = seq;
+      stats_.last_input_msg = msg.get();
+      s = processor_->process(msg, out, select);
+      if (s)
+      {
+        ++stats_.frames_processed;
+        stats_.last_input_data = processor_->lastInputData();
+        last_summary_ = processor_->summary();
+        for (int l = 0; l < kNumLabels; ++l)
+          label_totals_[l] += last_summary_.label_counts[l];
+        stats_.last_labelled = out.labelled.get();
+        stats_.last_primitives = out.primitives.get();
+        stats_.last_edges = out.edges.get();
+        stats_.last_planes = out.planes.get();
+      }
+      else
+      {
+        ++stats_.frames_rejected;
+        stats_.last_error = s.message;
+      }
+    }
+    if (!s)
+    {
+      NODELET_ERROR_THROTTLE(5.0, "frame rejected (stamp %.6f, frame '%s'): %s", msg->header.stamp.toSec(),
+                             msg->header.frame_id.c_str(), s.message.c_str());
+      return;
+    }
+    publishOutputs(out);
+  }
+  catch (const std::exception& e)
+  {
+    {
+      std::lock_guard<std::mutex> lock(process_mutex_);
+      ++stats_.frames_rejected;
+      stats_.last_error = e.what();
+    }
+    NODELET_ERROR_THROTTLE(5.0, "frame dropped: %s", e.what());
+  }
+}
+
+void RingCurvatureNodelet::publishOutputs(Outputs& out)
+{
+  // Shared-pointer publish: subscribers in the same manager get these very objects. The Ptrs
+  // are dropped right after, so nothing here touches a message once it is out.
+  if (out.labelled)
+    pub_labelled_.publish(out.labelled);
+  if (out.primitives)
+    pub_primitives_.publish(out.primitives);
+  if (out.edges)
+    pub_edges_.publish(out.edges);
+  if (out.planes)
+    pub_planes_.publish(out.planes);
+  if (out.markers)
+    pub_markers_.publish(out.markers);
+  out = Outputs();
+}
+
+void RingCurvatureNodelet::reconfigureCb(RingCurvatureConfig& config, uint32_t /*level*/)
+{
+  std::lock_guard<std::mutex> lock(process_mutex_);
+  const Params next = fromConfig(config, processor_->params());
+  const Status s = processor_->setParams(next);
+  if (!s)
+  {
+    NODELET_ERROR("reconfigure rejected, previous parameters kept: %s", s.message.c_str());
+    // dynamic_reconfigure publishes the config as left by this callback: show what is in force.
+    config = toConfig(processor_->params());
+    return;
+  }
+  NODELET_DEBUG("parameters reconfigured");
+}
+
+void RingCurvatureNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
+{
+  std::lock_guard<std::mutex> lock(process_mutex_);
+  const ros::WallTime now = ros::WallTime::now();
+  const double dt = (now - window_start_).toSec();
+  const double rate = dt > 0 ? static_cast<double>(frames_in_window_) / dt : 0.0;
+  frames_in_window_ = 0;
+  window_start_ = now;
+
+  if (!subscribed_)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "idle: no subscribers to any output");
+  else if (stats_.frames_rejected > 0 && !stats_.last_error.empty())
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames rejected: " + stats_.last_error);
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+
+  stat.add("input rate [Hz]", rate);
+  stat.add("frames received", stats_.frames_received);
+  stat.add("frames processed", stats_.frames_processed);
+  stat.add("frames rejected", stats_.frames_rejected);
+  stat.add("frames dropped by the input queue (header.seq gaps)", stats_.frames_dropped);
+  stat.add("last rejection", stats_.last_error.empty() ? std::string("none") : stats_.last_error);
+  const FrameSummary& f = last_summary_;
+  stat.add("time grid [ms]", f.grid_ms);
+  stat.add("time features [ms]", f.features_ms);
+  stat.add("time thresholds [ms]", f.thresholds_ms);
+  stat.add("time classification [ms]", f.classification_ms);
+  stat.add("time primitives [ms]", f.primitives_ms);
+  stat.add("time core output [ms]", f.core_output_ms);
+  stat.add("time messages [ms]", f.messages_ms);
+  stat.add("time total [ms]", f.coreMs() + f.messages_ms);
+  stat.add("primitives (last frame)", f.primitives);
+  for (int l = 0; l < kNumLabels; ++l)
+    stat.add(std::string("points labelled ") + labelName(static_cast<Label>(l)), label_totals_[l]);
+}
+
+NodeletStats RingCurvatureNodelet::stats() const
+{
+  std::lock_guard<std::mutex> lock(process_mutex_);
+  return stats_;
+}
+
+}  // namespace ring_curvature
+
+PLUGINLIB_EXPORT_CLASS(ring_curvature::RingCurvatureNodelet, nodelet::Nodelet)

@@ -1,0 +1,45 @@
+// The PointCloud2 half of the fuzz target: the bytes as a sensor_msgs/PointCloud2 through the
+// input adapter, the pipeline and every output message the nodelet publishes.
+#include "fuzz_checks.hpp"
+#include "ring_curvature/PrimitiveArray.h"
+#include "ring_curvature/ros/frame_processor.hpp"
+
+void ring_curvature::fuzz::fuzzAdapter(const Input& in, const Params& params)
+{
+  sensor_msgs::PointCloud2 msg;
+  msg.width = in.width;
+  msg.height = in.height;
+  msg.point_step = in.point_step;
+  msg.row_step = in.row_step;
+  msg.is_bigendian = (in.flags & 1) != 0;
+  for (const auto& f : in.fields)
+  {
+    sensor_msgs::PointField pf;
+    pf.name = f.name;
+    pf.datatype = f.datatype;
+    pf.count = f.count;
+    pf.offset = f.offset;
+    msg.fields.push_back(pf);
+  }
+  msg.data = in.data;
+  FrameProcessor processor(params);
+  Outputs out;
+  const Status st = processor.process(msg, out);
+  if (!st)
+  {
+    require(!st.message.empty(), "a rejection names its problem");
+    require(!out.labelled && !out.primitives && !out.edges && !out.planes && !out.markers,
+            "a rejected frame has no output");
+    return;
+  }
+  const std::size_t n = static_cast<std::size_t>(msg.width) * msg.height;
+  checkResult(processor.result(), n);
+  require(processor.summary().points == n, "summary counts every point");
+  require(out.labelled && out.labelled->width == msg.width && out.labelled->height == msg.height,
+          "labelled cloud has the input's shape");
+  require(out.labelled->data.size() == static_cast<std::size_t>(out.labelled->row_step) * out.labelled->height,
+          "labelled cloud's data matches its row_step");
+  require(out.primitives && out.primitives->primitives.size() == processor.summary().primitives,
+          "one primitive message per primitive");
+}
+

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Defaults must agree between the three places a user meets them: the core's Params struct
+(include/ring_curvature/params.hpp, the single source of truth), the dynamic_reconfigure
+definition (cfg/RingCurvature.cfg) and the documented parameter file (config/ring_curvature.yaml).
+Prints one line per check and ends with "N passed, N failed"."""
+import re
+import sys
+from pathlib import Path
+
+root = Path(__file__).resolve().parents[2]
+hpp = (root / "include/ring_curvature/params.hpp").read_text()
+cfg = (root / "cfg/RingCurvature.cfg").read_text()
+yaml_text = (root / "config/ring_curvature.yaml").read_text()
+
+enums = {}  # enum type -> {member: value}
+for m in re.finditer(r"enum class (\w+) : int\s*\{(.*?)\};", hpp, re.S):
+    enums[m.group(1)] = {k: int(v) for k, v in re.findall(r"(\w+) = (\d+)", m.group(2))}
+
+struct = hpp[hpp.index("struct Params"):]
+params = {}  # name -> (type, default as python value)
+for typ, name, val in re.findall(r"^\s+(int|float|bool|\w+Mode) (\w+) = ([^;]+);", struct, re.M):
+    if typ == "bool":
+        params[name] = (typ, val.strip() == "true")
+    elif typ in ("int",):
+        params[name] = (typ, int(val))
+    elif typ == "float":
+        params[name] = (typ, float(val.rstrip("f")))
+    else:
+        member = val.split("::")[1].strip()
+        params[name] = (typ, member)
+
+results = []
+def check(ok, what):
+    results.append(ok)
+    print(("ok   " if ok else "FAIL ") + what)
+
+# cfg: gen.add("name", type, level, "desc", default, ...)
+for name, default in re.findall(r'gen\.add\("(\w+)",\s*\w+,\s*\d+,\s*"[^"]*",\s*([^,\)]+)', cfg):
+    if name not in params:
+        check(False, f"cfg key '{name}' is not a field of Params")
+        continue
+    typ, want = params[name]
+    d = default.strip()
+    if typ == "bool":
+        got = d == "True"
+    elif typ in enums:
+        got = {v: k for k, v in enums[typ].items()}.get(int(d))
+    else:
+        got = float(d)
+        want = float(want)
+    check(got == want if not isinstance(want, float) else abs(got - want) < 1e-9,
+          f"cfg default of '{name}' ({d}) equals Params ({params[name][1]})")
+
+# yaml: key: value  # comment ; every Params field documented with its default
+yaml = {}
+for line in yaml_text.splitlines():
+    m = re.match(r"^(\w+):\s*([^#\s]+)\s*(#.*)?$", line)
+    if m:
+        yaml[m.group(1)] = (m.group(2), m.group(3))
+for name, (typ, want) in params.items():
+    if name not in yaml:
+        check(False, f"Params field '{name}' missing from config/ring_curvature.yaml")
+        continue
+    v, comment = yaml[name]
+    if typ == "bool":
+        got = v.lower() == "true"
+    elif typ in enums:
+        got = v.strip("'\"")
+        want = want.lower()
+    elif typ == "int":
+        got = int(v)
+    else:
+        got = float(v)
+    ok = abs(got - want) < 1e-6 if isinstance(want, float) else got == want
+    check(ok and bool(comment), f"yaml '{name}: {v}' equals Params ({params[name][1]}) and has a comment")
+
+passed = sum(results)
+print(f"{passed} passed, {len(results) - passed} failed")
+sys.exit(0 if all(results) else 1)

@@ -1,0 +1,226 @@
+// The ROS layer without a ROS master: cloud adapter checks, the output message layouts, and
+// parameter loading (the shipped YAML must hold exactly the core's defaults).
+#include <gtest/gtest.h>
+#include <ros/package.h>
+
+#include <fstream>
+#include <map>
+
+#include "ring_curvature/ros/cloud_adapter.hpp"
+#include "ring_curvature/ros/frame_processor.hpp"
+#include "ring_curvature/ros/param_loading.hpp"
+#include "ring_curvature/ros/param_table.hpp"
+#include "cloud_builders.hpp"
+#include "output_checks.hpp"
+
+using namespace ring_curvature;
+using namespace ring_curvature_test;
+
+namespace
+{
+
+std::string fixture(const std::string& name) { return std::string(RC_SOURCE_DIR) + "/rosbag_fixtures/" + name; }
+
+const sensor_msgs::PointCloud2& vlp16Frame()
+{
+  static const auto clouds = readClouds(fixture("nebula_vlp16_lastreturn_4scans.bag"), "/velodyne_points");
+  return *clouds.at(0);
+}
+
+// Collects every key and value as text, to compare two Params key by key.
+class Dump : public ParamVisitor
+{
+public:
+  bool visit(const char* k, float& v) override { return put(k, std::to_string(v)); }
+  bool visit(const char* k, int& v) override { return put(k, std::to_string(v)); }
+  bool visit(const char* k, bool& v) override { return put(k, v ? "true" : "false"); }
+  bool visit(const char* k, std::string& v) override { return put(k, v); }
+  std::map<std::string, std::string> values;
+
+private:
+  bool put(const char* k, const std::string& v)
+  {
+    values[k] = v;
+    return true;
+  }
+};
+
+std::map<std::string, std::string> dump(Params p)
+{
+  Dump d;
+  EXPECT_TRUE(forEachParam(p, d).ok);
+  return d.values;
+}
+
+}  // namespace
+
+TEST(CloudAdapter, ReadsPackedVelodyneLayoutInPlace)
+{
+  const auto& msg = vlp16Frame();
+  PointCloudView v;
+  const Status s = makeView(msg, Params(), v);
+  ASSERT_TRUE(s.ok) << s.message;
+  EXPECT_EQ(msg.data.data(), v.data) << "the view must point into the message, not a copy";
+  EXPECT_EQ(22u, v.point_step);
+  EXPECT_EQ(16, v.ring.offset);
+  EXPECT_EQ(ScalarType::UInt16, v.ring.type);
+  EXPECT_EQ(18, v.time.offset);
+  EXPECT_EQ(12, v.intensity.offset);
+}
+
+TEST(CloudAdapter, AcceptsIntegerRingTypesAndReorderedFields)
+{
+  for (std::uint8_t t : {sensor_msgs::PointField::UINT8, sensor_msgs::PointField::INT16,
+                         sensor_msgs::PointField::UINT16, sensor_msgs::PointField::INT32})
+  {
+    const auto c = relayout(vlp16Frame(), t);
+    PointCloudView v;
+    const Status s = makeView(*c, Params(), v);
+    ASSERT_TRUE(s.ok) << s.message;
+    EXPECT_EQ(static_cast<ScalarType>(t), v.ring.type);
+    EXPECT_GT(v.x.offset, v.ring.offset) << "fields were reordered: x comes after ring";
+  }
+}
+
+TEST(CloudAdapter, RejectsFloatRingWithAdvice)
+{
+  auto c = relayout(vlp16Frame(), sensor_msgs::PointField::FLOAT32);
+  PointCloudView v;
+  const Status s = makeView(*c, Params(), v);
+  ASSERT_FALSE(s.ok);
+  EXPECT_NE(std::string::npos, s.message.find("ring")) << s.message;
+  EXPECT_NE(std::string::npos, s.message.find("integer")) << s.message;
+}
+
+TEST(CloudAdapter, MissingRingListsFieldsAndRemedies)
+{
+  const auto c = withoutField(vlp16Frame(), "ring");
+  PointCloudView v;
+  Status s = makeView(*c, Params(), v);
+  ASSERT_FALSE(s.ok);
+  EXPECT_NE(std::string::npos, s.message.find("intensity:float32")) << s.message;
+  EXPECT_NE(std::string::npos, s.message.find("ring_from_elevation")) << s.message;
+  Params p;
+  p.ring_from_elevation = true;
+  s = makeView(*c, p, v);
+  EXPECT_TRUE(s.ok) << s.message;
+  EXPECT_FALSE(v.ring.present());
+}
+
+TEST(CloudAdapter, OrganizedCloudMayOmitRing)
+{
+  auto c = withoutField(vlp16Frame(), "ring");
+  // 14 rows of equal width stand in for an organized cloud; only the layout matters here.
+  c->height = 2;
+  c->width = vlp16Frame().width / 2;
+  c->row_step = c->width * c->point_step;
+  c->data.resize(static_cast<std::size_t>(c->row_step) * c->height);
+  PointCloudView v;
+  const Status s = makeView(*c, Params(), v);
+  EXPECT_TRUE(s.ok) << s.message;
+}
+
+TEST(CloudAdapter, RejectsInconsistentLayouts)
+{
+  PointCloudView v;
+  auto c = boost::make_shared<sensor_msgs::PointCloud2>(vlp16Frame());
+  c->is_bigendian = true;
+  EXPECT_NE(std::string::npos, makeView(*c, Params(), v).message.find("big-endian"));
+
+  c = boost::make_shared<sensor_msgs::PointCloud2>(vlp16Frame());
+  c->data.pop_back();
+  EXPECT_NE(std::string::npos, makeView(*c, Params(), v).message.find("truncated"));
+
+  c = boost::make_shared<sensor_msgs::PointCloud2>(vlp16Frame());
+  c->row_step -= 1;
+  EXPECT_FALSE(makeView(*c, Params(), v).ok);
+
+  c = boost::make_shared<sensor_msgs::PointCloud2>(vlp16Frame());
+  c->fields.back().offset = c->point_step - 2;  // the 4-byte time field now ends past the record
+  const Status s = makeView(*c, Params(), v);
+  EXPECT_NE(std::string::npos, s.message.find("past point_step")) << s.message;
+
+  c = withoutField(vlp16Frame(), "x");
+  EXPECT_NE(std::string::npos, makeView(*c, Params(), v).message.find("'x'"));
+}
+
+TEST(Outputs, AllOutputsAgreeWithTheInput)
+{
+  FrameProcessor proc;
+  for (std::uint8_t t : {sensor_msgs::PointField::UINT16, sensor_msgs::PointField::UINT8})
+  {
+    const auto in = relayout(vlp16Frame(), t);
+    Outputs out;
+    const Status s = proc.process(*in, out);
+    ASSERT_TRUE(s.ok) << s.message;
+    ASSERT_TRUE(out.labelled && out.primitives && out.edges && out.planes);
+    checkLabelled(*in, *out.labelled);
+    checkPrimitives(*out.labelled, *out.primitives);
+    checkSubset(*in, *out.labelled, *out.edges, 2, 3, "edges");
+    checkSubset(*in, *out.labelled, *out.planes, 1, 1, "planes");
+    EXPECT_GT(out.planes->width, 0u) << "an indoor scene has planes";
+    EXPECT_EQ(0u, out.labelled->point_step % 4);
+  }
+}
+
+TEST(Outputs, RingTypeAndFieldOrderDoNotChangeLabels)
+{
+  FrameProcessor proc;
+  Outputs a, b;
+  ASSERT_TRUE(proc.process(vlp16Frame(), a).ok);
+  const auto re = relayout(vlp16Frame(), sensor_msgs::PointField::INT32);
+  ASSERT_TRUE(proc.process(*re, b).ok);
+  const auto* la = field(*a.labelled, "label");
+  const auto* lb = field(*b.labelled, "label");
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.labelled->width; ++i)
+    differ += get<std::uint8_t>(*a.labelled, i, *la) != get<std::uint8_t>(*b.labelled, i, *lb);
+  EXPECT_EQ(0u, differ);
+  EXPECT_EQ(a.primitives->primitives.size(), b.primitives->primitives.size());
+}
+
+TEST(Params, ShippedYamlHoldsTheCoreDefaults)
+{
+  Params p;
+  const Status s = loadParamsFile(std::string(RC_SOURCE_DIR) + "/config/ring_curvature.yaml", p);
+  ASSERT_TRUE(s.ok) << s.message;
+  EXPECT_EQ(dump(Params()), dump(p)) << "config/ring_curvature.yaml drifted from params.hpp";
+}
+
+TEST(Params, YamlEveryKeyPresent)
+{
+  std::map<std::string, std::string> in_file;
+  std::ifstream f(std::string(RC_SOURCE_DIR) + "/config/ring_curvature.yaml");
+  std::string line;
+  while (std::getline(f, line))
+    if (!line.empty() && line[0] != '#' && line.find(':') != std::string::npos)
+      in_file[line.substr(0, line.find(':'))] = "";
+  for (const auto& kv : dump(Params()))
+    EXPECT_EQ(1u, in_file.count(kv.first)) << "key " << kv.first << " missing from config/ring_curvature.yaml";
+}
+
+TEST(Params, StringsAreParsedAndCheckedByKey)
+{
+  Params p;
+  EXPECT_TRUE(applyParamStrings({{"curvature_mode", "paper"}, {"min_primitive_points", "7"}}, p).ok);
+  EXPECT_EQ(CurvatureMode::Paper, p.curvature_mode);
+  EXPECT_EQ(7, p.min_primitive_points);
+  Status s = applyParamStrings({{"curvature_mode", "bogus"}}, p);
+  EXPECT_NE(std::string::npos, s.message.find("curvature_mode")) << s.message;
+  s = applyParamStrings({{"min_range", "near"}}, p);
+  EXPECT_NE(std::string::npos, s.message.find("min_range")) << s.message;
+  s = applyParamStrings({{"min_rnage", "1"}}, p);
+  EXPECT_NE(std::string::npos, s.message.find("min_rnage")) << s.message;
+  s = applyParamStrings({{"smoothness_window", "-4"}}, p);
+  EXPECT_FALSE(s.ok) << "validate() must reject a negative window";
+}
+
+TEST(Params, ReconfigureRoundTrip)
+{
+  Params p;
+  p.curvature_mode = CurvatureMode::Developed;
+  p.robust_k = 4.5f;
+  p.max_rings = 64;  // not live: must survive from the base
+  const Params q = fromConfig(toConfig(p), p);
+  EXPECT_EQ(dump(p), dump(q));
+}

@@ -1,0 +1,291 @@
+// RingCurvatureNodelet inside a nodelet::Loader in this test process (a nodelet manager), fed by
+// a publisher in the same process: outputs per frame, zero copy (the nodelet reads the very
+// buffer published and subscribers get the very objects it published), laziness, two
+// independent instances, ring datatypes / reordered fields, and a bad frame followed by a good one.
+#include <gtest/gtest.h>
+#include <nodelet/loader.h>
+#include <ros/ros.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <boost/make_shared.hpp>
+#include <functional>
+#include <mutex>
+
+#include "ring_curvature/ros/ring_curvature_nodelet.hpp"
+#include "cloud_builders.hpp"
+#include "output_checks.hpp"
+
+using namespace ring_curvature_test;
+using ring_curvature::RingCurvatureNodelet;
+using sensor_msgs::PointCloud2;
+
+namespace
+{
+
+const double kTimeout = 10.0;  // [s] bound on every wait
+
+bool waitUntil(const std::function<bool()>& cond, double seconds = kTimeout)
+{
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (!cond())
+  {
+    if (ros::WallTime::now() > end || !ros::ok())
+      return false;
+    ros::WallDuration(0.005).sleep();
+  }
+  return true;
+}
+
+const std::vector<PointCloud2::ConstPtr>& frames()
+{
+  static const auto f =
+      readClouds(std::string(RC_SOURCE_DIR) + "/rosbag_fixtures/nebula_vlp16_lastreturn_4scans.bag", "/velodyne_points");
+  return f;
+}
+
+// Keeps every message received on the outputs of one nodelet.
+struct Collector
+{
+  explicit Collector(const std::string& ns)
+  {
+    ros::NodeHandle nh;
+    subs.push_back(nh.subscribe<PointCloud2>(ns + "/labelled_points", 10, [this](const PointCloud2::ConstPtr& m) {
+      std::lock_guard<std::mutex> l(mutex);
+      labelled.push_back(m);
+    }));
+    subs.push_back(nh.subscribe<ring_curvature::PrimitiveArray>(
+        ns + "/primitives", 10, [this](const ring_curvature::PrimitiveArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> l(mutex);
+          primitives.push_back(m);
+        }));
+    subs.push_back(nh.subscribe<PointCloud2>(ns + "/edges", 10, [this](const PointCloud2::ConstPtr& m) {
+      std::lock_guard<std::mutex> l(mutex);
+      edges.push_back(m);
+    }));
+    subs.push_back(nh.subscribe<PointCloud2>(ns + "/planes", 10, [this](const PointCloud2::ConstPtr& m) {
+      std::lock_guard<std::mutex> l(mutex);
+      planes.push_back(m);
+    }));
+    subs.push_back(nh.subscribe<visualization_msgs::MarkerArray>(
+        ns + "/markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> l(mutex);
+          markers.push_back(m);
+        }));
+  }
+  bool complete(std::size_t n)
+  {
+    std::lock_guard<std::mutex> l(mutex);
+    return labelled.size() >= n && primitives.size() >= n && edges.size() >= n && planes.size() >= n &&
+           markers.size() >= n;
+  }
+  std::size_t total()
+  {
+    std::lock_guard<std::mutex> l(mutex);
+    return labelled.size() + primitives.size() + edges.size() + planes.size() + markers.size();
+  }
+  std::mutex mutex;
+  std::vector<ros::Subscriber> subs;
+  std::vector<PointCloud2::ConstPtr> labelled, edges, planes;
+  std::vector<ring_curvature::PrimitiveArray::ConstPtr> primitives;
+  std::vector<visualization_msgs::MarkerArray::ConstPtr> markers;
+};
+
+// A manager whose instances the test can reach (the factory keeps a pointer to each).
+class Manager
+{
+public:
+  Manager()
+    : loader_([this](const std::string&) {
+        auto n = boost::make_shared<RingCurvatureNodelet>();
+        last_ = n;
+        return n;
+      })
+  {
+  }
+  boost::shared_ptr<RingCurvatureNodelet> load(const std::string& name, const std::string& input)
+  {
+    nodelet::M_string remap{{ros::names::resolve("velodyne_points"), ros::names::resolve(input)}};
+    if (!loader_.load(name, "ring_curvature/RingCurvatureNodelet", remap, {}))
+      return nullptr;
+    return last_;
+  }
+  bool unload(const std::string& name) { return loader_.unload(name); }
+
+private:
+  // Declared before last_ so that the nodelets die inside the loader's destructor, while the
+  // callback queues their timers and subscribers use still exist (as in a real manager).
+  nodelet::Loader loader_;
+  boost::shared_ptr<RingCurvatureNodelet> last_;
+};
+
+PointCloud2::Ptr copyOf(const PointCloud2& c) { return boost::make_shared<PointCloud2>(c); }
+
+}  // namespace
+
+TEST(NodeletInProcess, OneOutputPerTopicPerFrameAndZeroCopy)
+{
+  Manager m;
+  auto rc = m.load("/rc_zero", "/input_zero");
+  ASSERT_TRUE(rc);
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<PointCloud2>("/input_zero", 1);
+  Collector out("/rc_zero");
+  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0; })) << "nodelet never subscribed";
+
+  for (std::size_t k = 0; k < frames().size(); ++k)
+  {
+    const PointCloud2::Ptr in = copyOf(*frames()[k]);
+    pub.publish(in);  // by shared pointer: intra-process, no serialization
+    ASSERT_TRUE(waitUntil([&] { return out.complete(k + 1); })) << "frame " << k;
+    const auto st = rc->stats();
+    // The nodelet read this very message and this very point buffer...
+    EXPECT_EQ(static_cast<const void*>(in.get()), st.last_input_msg);
+    EXPECT_EQ(static_cast<const void*>(in->data.data()), st.last_input_data);
+    // ...and the subscribers got the very objects it published.
+    std::lock_guard<std::mutex> l(out.mutex);
+    EXPECT_EQ(st.last_labelled, static_cast<const void*>(out.labelled[k].get()));
+    EXPECT_EQ(st.last_primitives, static_cast<const void*>(out.primitives[k].get()));
+    EXPECT_EQ(st.last_edges, static_cast<const void*>(out.edges[k].get()));
+    EXPECT_EQ(st.last_planes, static_cast<const void*>(out.planes[k].get()));
+    checkLabelled(*in, *out.labelled[k]);
+    checkPrimitives(*out.labelled[k], *out.primitives[k]);
+    checkSubset(*in, *out.labelled[k], *out.edges[k], 2, 3, "edges");
+    checkSubset(*in, *out.labelled[k], *out.planes[k], 1, 1, "planes");
+    expectSameHeader(in->header, out.markers[k]->markers.empty() ? in->header : out.markers[k]->markers[0].header,
+                     "markers");
+  }
+  ros::WallDuration(0.3).sleep();  // nothing extra may trail in
+  std::lock_guard<std::mutex> l(out.mutex);
+  EXPECT_EQ(frames().size(), out.labelled.size());
+  EXPECT_EQ(frames().size(), out.primitives.size());
+  EXPECT_EQ(frames().size(), out.edges.size());
+  EXPECT_EQ(frames().size(), out.planes.size());
+  EXPECT_EQ(frames().size(), out.markers.size());
+}
+
+TEST(NodeletInProcess, LazyNoSubscriptionWithoutOutputSubscribers)
+{
+  Manager m;
+  auto rc = m.load("/rc_lazy", "/input_lazy");
+  ASSERT_TRUE(rc);
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<PointCloud2>("/input_lazy", 1);
+  ros::WallDuration(0.5).sleep();
+  EXPECT_EQ(0u, pub.getNumSubscribers()) << "subscribed to the input with no output subscriber";
+  pub.publish(copyOf(*frames()[0]));
+  ros::WallDuration(0.3).sleep();
+  EXPECT_EQ(0u, rc->stats().frames_received);
+
+  {
+    Collector out("/rc_lazy");
+    ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0; }));
+    pub.publish(copyOf(*frames()[1]));
+    ASSERT_TRUE(waitUntil([&] { return out.complete(1); }));
+    EXPECT_EQ(1u, rc->stats().frames_processed);
+  }
+  // Collector gone: the nodelet must let go of the input again.
+  EXPECT_TRUE(waitUntil([&] { return pub.getNumSubscribers() == 0; }));
+  pub.publish(copyOf(*frames()[2]));
+  ros::WallDuration(0.3).sleep();
+  EXPECT_EQ(1u, rc->stats().frames_received);
+}
+
+TEST(NodeletInProcess, TwoInstancesInOneManagerAreIndependent)
+{
+  // Instance b keeps only large primitives: if parameters or state were shared, a would too.
+  ros::param::set("/rc_b/min_primitive_points", 200);
+  Manager m;
+  auto a = m.load("/rc_a", "/input_a");
+  auto b = m.load("/rc_b", "/input_b");
+  ASSERT_TRUE(a && b);
+  ros::NodeHandle nh;
+  ros::Publisher pa = nh.advertise<PointCloud2>("/input_a", 1), pb = nh.advertise<PointCloud2>("/input_b", 1);
+  Collector oa("/rc_a"), ob("/rc_b");
+  ASSERT_TRUE(waitUntil([&] { return pa.getNumSubscribers() > 0 && pb.getNumSubscribers() > 0; }));
+
+  pa.publish(copyOf(*frames()[0]));
+  ASSERT_TRUE(waitUntil([&] { return oa.complete(1); }));
+  ros::WallDuration(0.2).sleep();
+  EXPECT_EQ(0u, ob.total()) << "a frame on a's input came out of b";
+  pb.publish(copyOf(*frames()[0]));
+  ASSERT_TRUE(waitUntil([&] { return ob.complete(1); }));
+  EXPECT_EQ(1u, a->stats().frames_processed);
+  EXPECT_EQ(1u, b->stats().frames_processed);
+
+  std::lock_guard<std::mutex> la(oa.mutex), lb(ob.mutex);
+  const auto& pa_msg = *oa.primitives[0];
+  const auto& pb_msg = *ob.primitives[0];
+  EXPECT_LT(pb_msg.primitives.size(), pa_msg.primitives.size());
+  std::size_t small_in_a = 0;
+  for (const auto& p : pa_msg.primitives)
+    small_in_a += p.num_points < 200;
+  EXPECT_GT(small_in_a, 0u) << "a should keep small primitives (default min_primitive_points)";
+  for (const auto& p : pb_msg.primitives)
+    EXPECT_GE(p.num_points, 200u);
+  ros::param::del("/rc_b");
+}
+
+TEST(NodeletInProcess, RingTypesReorderedFieldsAndABadFrame)
+{
+  Manager m;
+  auto rc = m.load("/rc_types", "/input_types");
+  ASSERT_TRUE(rc);
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<PointCloud2>("/input_types", 1);
+  Collector out("/rc_types");
+  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0; }));
+
+  std::size_t expected = 0;
+  for (std::uint8_t t : {sensor_msgs::PointField::UINT8, sensor_msgs::PointField::UINT16,
+                         sensor_msgs::PointField::INT32})
+  {
+    const auto in = relayout(*frames()[0], t);
+    pub.publish(in);
+    ++expected;
+    ASSERT_TRUE(waitUntil([&] { return out.complete(expected); })) << "ring datatype " << int(t);
+    std::lock_guard<std::mutex> l(out.mutex);
+    checkLabelled(*in, *out.labelled.back());
+    checkPrimitives(*out.labelled.back(), *out.primitives.back());
+  }
+
+  // No ring field: rejected, counted, nothing published, the nodelet carries on.
+  pub.publish(withoutField(*frames()[1], "ring"));
+  ASSERT_TRUE(waitUntil([&] { return rc->stats().frames_rejected == 1; }));
+  EXPECT_NE(std::string::npos, rc->stats().last_error.find("ring"));
+  ros::WallDuration(0.2).sleep();
+  EXPECT_EQ(expected * 5, out.total());
+
+  pub.publish(copyOf(*frames()[2]));
+  ++expected;
+  ASSERT_TRUE(waitUntil([&] { return out.complete(expected); })) << "good frame after a bad one";
+  EXPECT_EQ(expected, rc->stats().frames_processed);
+}
+
+TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)
+{
+  ros::param::set("/rc_bad/smoothness_window", -3);
+  Manager m;
+  bool loaded = false;
+  try
+  {
+    loaded = static_cast<bool>(m.load("/rc_bad", "/input_bad"));
+  }
+  catch (const std::exception&)
+  {
+    loaded = false;  // onInit throws (after NODELET_FATAL naming the parameter)
+  }
+  EXPECT_FALSE(loaded);
+  ros::param::del("/rc_bad");
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_nodelet_inprocess");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int r = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return r;
+}
