@@ -11,7 +11,9 @@
 namespace ring_curvature
 {
 
-struct Primitive
+/// One primitive. (Named PrimitiveInfo because the message msg/Primitive.msg generates
+/// ring_curvature::Primitive, and a user may include both.)
+struct PrimitiveInfo
 {
   std::uint32_t id = 0;           ///< index in PrimitiveSet::primitives
   Label label = Label::None;
@@ -27,7 +29,7 @@ struct Primitive
 
 struct PrimitiveSet
 {
-  std::vector<Primitive> primitives;
+  std::vector<PrimitiveInfo> primitives;
   std::vector<std::uint32_t> indices;       ///< input point indices, grouped per primitive
   std::vector<std::int32_t> of_grid;        ///< primitive id of each grid position, -1 if none
   void clear() { primitives.clear(); indices.clear(); of_grid.clear(); }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace ring_curvature
@@ -13,6 +14,7 @@ namespace
 constexpr float kDegToRad = 0.0174532925f;
 constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
 constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // Copies the finite values of v[b, e) into out; returns how many.
 std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, std::vector<float>& out)
@@ -95,13 +97,55 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
   }
 }
 
+namespace
+{
+// Float bits mapped to an unsigned key of the same order (negatives reversed, then above positives).
+inline std::uint32_t orderedKey(float f)
+{
+  std::uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  const std::uint32_t neg = static_cast<std::uint32_t>(-static_cast<std::int32_t>(u >> 31));
+  return u ^ (neg | 0x80000000u);
+}
+}  // namespace
+
 float selectQuantile(float* v, std::size_t n, double q)
 {
   if (n == 0) return std::numeric_limits<float>::quiet_NaN();
   // nearest-rank quantile: the value at position floor(q * (n - 1))
-  const std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
-  std::nth_element(v, v + k, v + n);
-  return v[k];
+  std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+  // Radix selection (11 + 11 + 10 bits, most significant first): each pass counts the digit of
+  // the remaining candidates and moves those in the bucket that holds rank k to the front. Same
+  // element as nth_element, but without its unpredictable comparisons, which made this the
+  // second largest cost of a frame (perf). Swaps, never overwrites: callers reuse all n values.
+  constexpr int kShift[3] = {21, 10, 0};
+  constexpr std::uint32_t kMask[3] = {0x7FF, 0x7FF, 0x3FF};
+  std::uint32_t counts[2048];
+  std::size_t m = n;
+  float* c = v;
+  for (int pass = 0; pass < 3 && m > 32; ++pass)
+  {
+    const int sh = kShift[pass];
+    const std::uint32_t mask = kMask[pass];
+    std::fill(counts, counts + mask + 1, 0u);
+    for (std::size_t i = 0; i < m; ++i) ++counts[(orderedKey(c[i]) >> sh) & mask];
+    std::uint32_t bucket = 0;
+    std::size_t below = 0;
+    while (below + counts[bucket] <= k) below += counts[bucket++];
+    k -= below;
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < m; ++i)
+    {
+      // branch-free partition: [j, i) holds non-members, so swapping a non-member is harmless
+      const bool in = ((orderedKey(c[i]) >> sh) & mask) == bucket;
+      std::swap(c[i], c[j]);
+      j += in ? 1 : 0;
+    }
+    m = counts[bucket];
+    if (pass == 2) return c[k];  // every candidate left has the same key
+  }
+  std::nth_element(c, c + k, c + m);
+  return c[k];
 }
 
 void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, const Params& P,
@@ -159,17 +203,20 @@ void Classifier::classify(const ScanGrid& grid, const Features& f, const Params&
     const RingThresholds& t = thr[static_cast<std::size_t>(n)];
     for (std::uint32_t p = b; p < e; ++p)
     {
-      const float kappa = f.curvature[p], S = f.smoothness[p], D = f.discontinuity[p];
-      if (std::isnan(S) && std::isnan(kappa) && std::isnan(D)) continue;  // isolated sample: None
+      // Ablations (paper Table 2) drop a feature entirely: NaN compares false everywhere below.
+      const float kappa = P.use_curvature ? f.curvature[p] : kNaN;
+      const float S = P.use_smoothness ? f.smoothness[p] : kNaN;
+      const float D = f.discontinuity[p];
+      if (std::isnan(f.smoothness[p]) && std::isnan(f.curvature[p]) && std::isnan(D)) continue;  // isolated: None
       Label l;
       if (quartile)
       {
         // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
         if (S > t.smoothness_high)
           l = Label::Rough;
-        else if (kappa < t.curvature_low && D < t.discontinuity_low)
+        else if ((kappa < t.curvature_low || !P.use_curvature) && D < t.discontinuity_low)
           l = Label::Plane;
-        else if (kappa > t.curvature_high && D > t.discontinuity_high)
+        else if ((kappa > t.curvature_high || !P.use_curvature) && D > t.discontinuity_high)
           l = Label::Corner;
         else if (kappa > t.curvature_high)
           l = Label::Edge;
@@ -178,7 +225,7 @@ void Classifier::classify(const ScanGrid& grid, const Features& f, const Params&
       }
       else
       {
-        const float turn = f.turning[p];
+        const float turn = P.use_curvature ? f.turning[p] : kNaN;
         const float chord = kappa > 0 ? turn / kappa : 0.0f;  // kappa = turning / chord length
         const bool turn_high = turn > t.curvature_high && turn * chord > turn_noise;
         bool jump_high = D > t.discontinuity_high;

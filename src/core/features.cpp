@@ -31,9 +31,11 @@ inline void smallSinCos(double a, double& s, double& c)
     c = std::cos(a);
     return;
   }
+  // Reciprocal constants: without -ffast-math a "/ 6.0" stays a division, and these six were
+  // the largest cost of the feature stage (perf); the result differs by an ulp at most.
   const double a2 = a * a;
-  s = a * (1.0 - a2 / 6.0 * (1.0 - a2 / 20.0 * (1.0 - a2 / 42.0)));
-  c = 1.0 - a2 / 2.0 * (1.0 - a2 / 12.0 * (1.0 - a2 / 30.0));
+  s = a * (1.0 - a2 * (1.0 / 6.0) * (1.0 - a2 * (1.0 / 20.0) * (1.0 - a2 * (1.0 / 42.0))));
+  c = 1.0 - a2 * 0.5 * (1.0 - a2 * (1.0 / 12.0) * (1.0 - a2 * (1.0 / 30.0)));
 }
 
 // Per-ring view with circular neighbour access limited to the current run.
@@ -45,9 +47,17 @@ struct RingCtx
   // positions
   std::uint32_t pos(std::int64_t k) const
   {
-    std::int64_t kk = k % static_cast<std::int64_t>(K);
-    if (kk < 0) kk += K;
-    return b + static_cast<std::uint32_t>(kk);
+    // Offsets are a few samples: one add or subtract wraps them, where `%` costs a 64-bit
+    // division per neighbour access. The division stays as the fallback for tiny rings.
+    const auto KK = static_cast<std::int64_t>(K);
+    if (k < 0) k += KK;
+    else if (k >= KK) k -= KK;
+    if (k < 0 || k >= KK)
+    {
+      k %= KK;
+      if (k < 0) k += KK;
+    }
+    return b + static_cast<std::uint32_t>(k);
   }
 };
 }  // namespace
@@ -85,9 +95,8 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
     // forward pass for L (wrap once around for closed rings)
     int run = 0;
     const std::uint32_t passes = closed ? 2 : 1;
-    for (std::uint32_t t = 0; t < passes * K; ++t)
+    for (std::uint32_t t = 0, k = 0; t < passes * K; ++t, k = k + 1 == K ? 0 : k + 1)  // k = t % K
     {
-      const std::uint32_t k = t % K;
       if (t == 0 && !closed)
         run = 0;
       else
@@ -95,10 +104,9 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
       if (t >= (passes - 1) * K) L[k] = run;
     }
     run = 0;
-    for (std::uint32_t t = 0; t < passes * K; ++t)
+    for (std::uint32_t t = 0, k = K - 1; t < passes * K; ++t, k = k == 0 ? K - 1 : k - 1)  // k = K-1 - t % K
     {
-      const std::uint32_t k = K - 1 - (t % K);
-      const std::uint32_t next = (k + 1) % K;
+      const std::uint32_t next = k + 1 == K ? 0 : k + 1;
       if (t == 0 && !closed)
         run = 0;
       else
@@ -132,7 +140,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
     {
       // Samples needed for a chord of `chord` metres at this range (spacing ~ rho cos(phi) dtheta).
       const double spacing = rho[k] * cone_cos * res;
-      const int h = std::clamp(static_cast<int>(std::ceil(chord / std::max(spacing, 1e-6))), 1, P.max_chord_samples);
+      const int h = std::clamp(static_cast<int>(std::ceil(chord / (spacing > 1e-6 ? spacing : 1e-6))  /* NaN-safe */), 1, P.max_chord_samples);
       hl = std::min(h, L[k]);
       hr = std::min(h, Rr[k]);
     }
@@ -197,13 +205,17 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
       }
       return static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
     };
+    // Each link once (a point shares its links with its neighbours): jump[k] is link (k-1, k),
+    // NaN where there is none. wy_ is free until the smoothness below.
+    auto& jump = wy_;
+    jump.resize(K);
+    for (std::uint32_t k = 0; k < K; ++k) jump[k] = L[k] >= 1 ? linkJump(k) : kNaN;
     for (std::uint32_t k = 0; k < K; ++k)
     {
-      float d = kNaN;
-      if (L[k] >= 1) d = linkJump(k);
+      float d = L[k] >= 1 ? jump[k] : kNaN;
       if (Rr[k] >= 1)
       {
-        const float dn = linkJump((k + 1) % K);
+        const float dn = jump[k + 1 == K ? 0 : k + 1];
         d = std::isnan(d) ? dn : std::max(d, dn);
       }
       out.discontinuity[b + k] = d;
@@ -239,17 +251,34 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   // Residual variance of rho over extended indices [lo, hi): plain (Eq 10) or after removing
   // the least-squares line through the window.
   const bool detrend = P.smoothness_mode == SmoothnessMode::Detrended;
+  // Windows hold at most 2w + 1 samples: 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) per window
+  // size come from a small table, so the three windows of a point cost no division (divisions
+  // dominated this loop). Larger windows than the table holds compute them directly.
+  constexpr std::size_t kTable = 64;
+  double inv_cnt_table[kTable], inv_trend_table[kTable];
+  inv_cnt_table[0] = inv_trend_table[0] = 0.0;  // never used: windows hold >= 2 samples
+  for (std::size_t t = 1; t < kTable; ++t)
+  {
+    const double cnt = static_cast<double>(t);
+    inv_cnt_table[t] = 1.0 / cnt;
+    inv_trend_table[t] = t >= 3 ? 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt) : 0.0;
+  }
   auto windowVar = [&](std::size_t lo, std::size_t hi) -> double {
-    const double cnt = static_cast<double>(hi - lo);
+    const std::size_t n_win = hi - lo;
+    const double cnt = static_cast<double>(n_win);
+    const bool tabled = n_win < kTable;
+    const double inv_cnt = tabled ? inv_cnt_table[n_win] : 1.0 / cnt;
     const double s0 = S0[hi] - S0[lo], s1 = S1[hi] - S1[lo], s2 = S2[hi] - S2[lo];
-    const double mean = s0 / cnt;
-    double var = s2 / cnt - mean * mean;  // Eq 10
-    if (detrend && cnt >= 3)
+    const double mean = s0 * inv_cnt;
+    double var = s2 * inv_cnt - mean * mean;  // Eq 10
+    if (detrend && n_win >= 3)
     {
       const double jbar = 0.5 * static_cast<double>(lo + hi - 1);
-      const double sjj = (cnt * cnt - 1.0) * cnt / 12.0;  // sum (j - jbar)^2 over consecutive j
-      const double sjr = s1 - jbar * s0;                  // sum (j - jbar) * rho
-      var -= (sjr * sjr / sjj) / cnt;                     // remove the linear trend
+      // sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12
+      const double inv_trend =
+          tabled ? inv_trend_table[n_win] : 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt);
+      const double sjr = s1 - jbar * s0;  // sum (j - jbar) * rho
+      var -= sjr * sjr * inv_trend;       // remove the linear trend
     }
     return std::max(0.0, var);
   };

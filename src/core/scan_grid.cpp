@@ -2,8 +2,11 @@
 // azimuth within each ring (rings arrive nearly sorted, so buckets hold one or two points).
 #include "ring_curvature/scan_grid.hpp"
 
+#include "ring_curvature/classifier.hpp"  // selectQuantile
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 
@@ -264,7 +267,18 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
       int ring = static_cast<int>(row);
       if (have_ring)
       {
-        const std::int64_t r = readInteger(rec + view.ring.offset, view.ring.type);
+        // uint16 (velodyne, ouster) read inline: the generic reader is a call and a switch per point
+        std::int64_t r;
+        if (view.ring.type == ScalarType::UInt16)
+        {
+          std::uint16_t r16;
+          std::memcpy(&r16, rec + view.ring.offset, sizeof r16);
+          r = r16;
+        }
+        else
+        {
+          r = readInteger(rec + view.ring.offset, view.ring.type);
+        }
         if (r < 0 || r >= params.max_rings)
         {
           std::ostringstream s;
@@ -454,9 +468,11 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     grid.azimuth_resolution = kTwoPi / static_cast<float>(largest);
     return;
   }
-  auto mid = tmp_f_.begin() + static_cast<std::ptrdiff_t>(tmp_f_.size() / 2);
-  std::nth_element(tmp_f_.begin(), mid, tmp_f_.end());
-  grid.azimuth_resolution = *mid;
+  // The element at index n / 2, as nth_element would give, by the classifier's radix selection
+  // (nth_element over every spacing of the frame was 4 % of a frame): floor(q (n - 1)) = n / 2.
+  const std::size_t n = tmp_f_.size();
+  const double q = n > 1 ? (static_cast<double>(n / 2) + 0.5) / static_cast<double>(n - 1) : 0.0;
+  grid.azimuth_resolution = selectQuantile(tmp_f_.data(), n, q);
 }
 
 void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)

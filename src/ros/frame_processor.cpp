@@ -16,7 +16,6 @@ struct FrameProcessor::Impl
   explicit Impl(const Params& p) : pipeline(p) {}
   Pipeline pipeline;
   FrameResult result;
-  std::vector<PrimitiveRecord> records;  // reused between frames
 };
 
 FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
@@ -25,38 +24,6 @@ FrameProcessor::~FrameProcessor() = default;
 Status FrameProcessor::setParams(const Params& params) { return impl_->pipeline.setParams(params); }
 const Params& FrameProcessor::params() const { return impl_->pipeline.params(); }
 const FrameResult& FrameProcessor::result() const { return impl_->result; }
-
-namespace
-{
-void copy3(const Eigen::Vector3f& v, float out[3])
-{
-  out[0] = v.x();
-  out[1] = v.y();
-  out[2] = v.z();
-}
-
-void toRecords(const PrimitiveSet& set, std::vector<PrimitiveRecord>& records)
-{
-  records.resize(set.primitives.size());
-  for (std::size_t k = 0; k < set.primitives.size(); ++k)
-  {
-    const auto& p = set.primitives[k];
-    PrimitiveRecord& r = records[k];
-    r.id = p.id;
-    r.label = static_cast<std::uint8_t>(p.label);
-    r.num_points = p.num_points;
-    r.first = p.first;
-    copy3(p.centroid, r.centroid);
-    copy3(p.axis, r.axis);
-    copy3(p.eigenvalues, r.eigenvalues);
-    copy3(p.bbox_min, r.bbox_min);
-    copy3(p.bbox_max, r.bbox_max);
-    r.rms_error = p.rms_error;
-    r.ring_min = p.ring_min;
-    r.ring_max = p.ring_max;
-  }
-}
-}  // namespace
 
 Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out, const OutputSelection& select)
 {
@@ -76,8 +43,7 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     out.labelled = makeLabelledCloud(msg, r);
   if (select.primitives)
   {
-    toRecords(r.primitives, impl_->records);
-    out.primitives = makePrimitiveArray(msg.header, impl_->records, r.primitives.indices);
+    out.primitives = makePrimitiveArray(msg.header, r.primitives);
   }
   if (select.edges)
     out.edges = makeLabelSubset(msg, r, Label::Edge, Label::Corner);

@@ -43,7 +43,7 @@ geometry_msgs::Point toPoint(const Eigen::Vector3f& v)
 
 /// The finite points of one primitive, read in place from the view. Empty when any index is out
 /// of range (a primitive set that does not belong to this cloud: draw nothing rather than garbage).
-std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const Primitive& prim,
+std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim,
                                       const PointCloudView& cloud)
 {
   std::vector<Eigen::Vector3f> pts;
@@ -70,7 +70,7 @@ std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const Primitive
 }
 
 visualization_msgs::Marker baseMarker(const std_msgs::Header& header, const char* ns,
-                                      const Primitive& prim, std::int32_t type)
+                                      const PrimitiveInfo& prim, std::int32_t type)
 {
   visualization_msgs::Marker m;
   m.header = header;
@@ -90,7 +90,7 @@ Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
   return n.cross(helper).normalized();
 }
 
-void addPlane(const Primitive& prim, const std::vector<Eigen::Vector3f>& pts,
+void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts,
               const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
 {
   Eigen::Vector3f n = prim.axis;
@@ -152,7 +152,7 @@ void addPlane(const Primitive& prim, const std::vector<Eigen::Vector3f>& pts,
   out.markers.push_back(std::move(arrow));
 }
 
-void addEdge(const Primitive& prim, std::vector<Eigen::Vector3f> pts,
+void addEdge(const PrimitiveInfo& prim, std::vector<Eigen::Vector3f> pts,
              const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
 {
   if (pts.size() < 2)
@@ -174,7 +174,7 @@ void addEdge(const Primitive& prim, std::vector<Eigen::Vector3f> pts,
   out.markers.push_back(std::move(line));
 }
 
-void addCluster(const Primitive& prim, const std::vector<Eigen::Vector3f>& pts,
+void addCluster(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts,
                 const std_msgs::Header& header, const char* ns, double diameter,
                 visualization_msgs::MarkerArray& out)
 {
@@ -199,7 +199,7 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   clear.action = visualization_msgs::Marker::DELETEALL;
   out->markers.push_back(std::move(clear));
 
-  for (const Primitive& prim : prims.primitives)
+  for (const PrimitiveInfo& prim : prims.primitives)
   {
     const std::vector<Eigen::Vector3f> pts = pointsOf(prims, prim, cloud);
     if (pts.empty())

@@ -9,36 +9,35 @@ namespace ring_curvature
 
 namespace
 {
-geometry_msgs::Point toPoint(const float v[3])
+geometry_msgs::Point toPoint(const Eigen::Vector3f& v)
 {
   geometry_msgs::Point p;
-  p.x = v[0];
-  p.y = v[1];
-  p.z = v[2];
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
   return p;
 }
 }  // namespace
 
-PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const std::vector<PrimitiveRecord>& records,
-                                     const std::vector<std::uint32_t>& indices)
+PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const PrimitiveSet& set)
 {
   auto out = boost::make_shared<PrimitiveArray>();
   out->header = header;
-  out->primitives.resize(records.size());
-  for (std::size_t k = 0; k < records.size(); ++k)
+  out->primitives.resize(set.primitives.size());
+  for (std::size_t k = 0; k < set.primitives.size(); ++k)
   {
-    const PrimitiveRecord& r = records[k];
+    const PrimitiveInfo& r = set.primitives[k];
     Primitive& m = out->primitives[k];
     m.id = r.id;
-    m.label = r.label;
+    m.label = static_cast<std::uint8_t>(r.label);
     m.num_points = r.num_points;
-    m.indices.assign(indices.begin() + r.first, indices.begin() + r.first + r.num_points);
+    m.indices.assign(set.indices.begin() + r.first, set.indices.begin() + r.first + r.num_points);
     m.centroid = toPoint(r.centroid);
-    m.axis.x = r.axis[0];
-    m.axis.y = r.axis[1];
-    m.axis.z = r.axis[2];
+    m.axis.x = r.axis.x();
+    m.axis.y = r.axis.y();
+    m.axis.z = r.axis.z();
     for (int e = 0; e < 3; ++e)
-      m.eigenvalues[e] = r.eigenvalues[e];
+      m.eigenvalues[e] = r.eigenvalues(e);
     m.rms_error = r.rms_error;
     m.bbox_min = toPoint(r.bbox_min);
     m.bbox_max = toPoint(r.bbox_max);

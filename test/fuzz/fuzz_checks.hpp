@@ -1,6 +1,5 @@
-// Shared by the fuzz target's two translation units. They are separate because the generated
-// message ring_curvature::Primitive and the core's ring_curvature::Primitive cannot meet in one
-// translation unit (see include/ring_curvature/ros/primitive_message.hpp).
+// Shared by the fuzz target's two translation units: one drives the core alone, the other the
+// ROS adapter and the output messages.
 #pragma once
 
 #include <cstddef>

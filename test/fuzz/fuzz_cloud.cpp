@@ -70,7 +70,7 @@ void ring_curvature::fuzz::checkResult(const FrameResult& r, std::size_t n)
   const auto& prims = r.primitives.primitives;
   for (std::size_t id = 0; id < prims.size(); ++id)
   {
-    const rc::Primitive& p = prims[id];
+    const rc::PrimitiveInfo& p = prims[id];
     require(p.id == id, "primitive id is its index");
     require(static_cast<std::size_t>(p.first) + p.num_points <= r.primitives.indices.size(),
             "primitive indices in range");

@@ -67,7 +67,7 @@ inline void expectConsistent(const FrameResult& r, std::size_t n)
   const auto& prims = r.primitives.primitives;
   for (std::size_t id = 0; id < prims.size(); ++id)
   {
-    const Primitive& p = prims[id];
+    const PrimitiveInfo& p = prims[id];
     EXPECT_EQ(p.id, id);
     ASSERT_LE(static_cast<std::size_t>(p.first) + p.num_points, r.primitives.indices.size());
     for (std::uint32_t j = 0; j < p.num_points; ++j)
@@ -124,7 +124,7 @@ inline void expectSameResult(const FrameResult& a, const FrameResult& b)
   EXPECT_EQ(a.primitives.indices, b.primitives.indices);
   for (std::size_t i = 0; i < a.primitives.primitives.size(); ++i)
   {
-    const Primitive &p = a.primitives.primitives[i], &q = b.primitives.primitives[i];
+    const PrimitiveInfo &p = a.primitives.primitives[i], &q = b.primitives.primitives[i];
     EXPECT_EQ(p.label, q.label) << "primitive " << i;
     EXPECT_EQ(p.num_points, q.num_points) << "primitive " << i;
     EXPECT_TRUE(p.centroid == q.centroid) << "primitive " << i;

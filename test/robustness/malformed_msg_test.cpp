@@ -1,9 +1,8 @@
 // Malformed sensor_msgs/PointCloud2 through the ROS input adapter and everything the nodelet
 // runs per frame (FrameProcessor: makeView -> Pipeline -> output messages), without a master.
 // Each bad message: rejected with a message naming the problem, no output built; the next good
-// message gives byte-identical outputs to a fresh processor's. (PrimitiveArray contents are
-// not looked at here: its generated ring_curvature::Primitive cannot share a translation unit
-// with the core's; the primitive count is compared through FrameProcessor::summary().)
+// message gives byte-identical outputs to a fresh processor's (PrimitiveArray: compared by
+// count through FrameProcessor::summary()).
 #include <gtest/gtest.h>
 
 #include <functional>

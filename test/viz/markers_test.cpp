@@ -45,7 +45,7 @@ struct Cloud
 void addPrimitive(rc::PrimitiveSet& set, rc::Label label, const std::vector<std::uint32_t>& idx,
                   const std::vector<Eigen::Vector3f>& pts, const Eigen::Vector3f& axis)
 {
-  rc::Primitive p;
+  rc::PrimitiveInfo p;
   p.id = static_cast<std::uint32_t>(set.primitives.size());
   p.label = label;
   p.num_points = static_cast<std::uint32_t>(idx.size());

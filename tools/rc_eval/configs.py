@@ -12,8 +12,8 @@ CLASSIFIER = [(c, {"classifier_mode": c}) for c in ("quartile", "robust")]
 PAPER = {"curvature_mode": "paper", "smoothness_mode": "variance", "discontinuity_mode": "paper",
          "classifier_mode": "quartile"}
 
-# Ablations of Table 2. The core has no switch to drop a feature yet; these keys are the ones
-# asked of it (see docs/evaluation/report.md); a run that process_bag rejects is reported n/a.
+# Ablations of Table 2: the default configuration with one feature switched off in the core's
+# classifier (Params::use_smoothness / use_curvature), everything else unchanged.
 ABLATIONS = {"Ours-NoSmooth": {"use_smoothness": False}, "Ours-NoCurv": {"use_curvature": False}}
 BASELINES = {"PCA-Curv": "pca", "EuclideanClust": "euclid"}
 

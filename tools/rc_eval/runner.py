@@ -36,15 +36,18 @@ def write_params(path, params):
             f.write("%s: %s\n" % (k, str(v).lower() if isinstance(v, bool) else v))
 
 
-def run_method(method, in_bag, out_bag, params=None, topic="/velodyne_points"):
+def run_method(method, in_bag, out_bag, params=None, topic="/velodyne_points", times_csv=None):
     """Labels in_bag into out_bag with 'ours' (process_bag with params) or a baseline
-    ('pca', 'euclid' via baseline_labels). Returns wall time [s] of the tool."""
+    ('pca', 'euclid' via baseline_labels). Returns wall time [s] of the tool. times_csv (ours
+    only): where process_bag writes its per-frame stage times."""
     if method == "ours":
         with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
             pfile = f.name
         write_params(pfile, params or {})
         cmd = tool_command("process_bag") + ["--input", in_bag, "--output", out_bag, "--topic", topic,
                                               "--params", pfile]
+        if times_csv:
+            cmd += ["--times-csv", times_csv]
     else:
         pfile = None
         cmd = tool_command("baseline_labels") + ["--input", in_bag, "--output", out_bag, "--method", method,

@@ -4,8 +4,9 @@ import json
 import os
 
 from .accuracy import CLASSES, evaluate_method, mean_f1, summary
-from .configs import BASELINES, PAPER, mode_grid
+from .configs import ABLATIONS, BASELINES, PAPER, mode_grid
 from .datasets import noise_sets
+from .headline import headline_table
 from .progress import Progress
 
 
@@ -43,7 +44,7 @@ def main(argv):
     a = parse(argv)
     os.makedirs(a.out, exist_ok=True)
     bags = noise_sets(a.work, a.noise, a.seeds, a.sensor)
-    configs = [("default", {}), ("paper-as-written", PAPER)] + mode_grid()
+    configs = [("default", {}), ("paper-as-written", PAPER)] + sorted(ABLATIONS.items()) + mode_grid()
     if a.only:
         configs = [c for c in configs if c[0] in a.only]
     runs = [(n, c) for c in configs for n in a.noise] + [(n, (b, None)) for b in BASELINES for n in a.noise]
@@ -56,8 +57,9 @@ def main(argv):
             "params": params, "counts": counts, "summary": summary(counts), "mean_f1": mean_f1(counts),
             "tool_seconds": sum(times)}
         prog.step(name)
+    sweep = {"noise": a.noise, "seeds": a.seeds, "sensor": a.sensor, "results": results}
     with open(os.path.join(a.out, "accuracy_modes.json"), "w") as f:
-        json.dump({"noise": a.noise, "seeds": a.seeds, "sensor": a.sensor, "results": results}, f, indent=1)
+        json.dump(sweep, f, indent=1)
     ranked = sorted((r for r in results if r not in BASELINES),
                     key=lambda r: -sum(results[r][str(n)]["mean_f1"] for n in a.noise))
     with open(os.path.join(a.out, "accuracy_modes.md"), "w") as f:
@@ -67,6 +69,7 @@ def main(argv):
                 "precision / recall; scoring rules in tools/rc_eval/scoring.py. Rows sorted by mean F1 "
                 "(Plane, Edge, Corner, Rough) summed over noise levels; baselines last.\n\n" % (
                     a.out, " ".join(map(str, a.seeds)), a.sensor, a.seeds))
+        f.write("## Headline: F1 per class\n\n" + headline_table(sweep) + "\n\n## Every mode: precision / recall\n\n")
         f.write(table(results, a.noise, ranked + [b for b in BASELINES if b in results]) + "\n")
     print("accuracy_sweep: %d runs; best: %s; tables in %s" % (len(runs), ranked[0] if ranked else "-", a.out))
     return 0

@@ -1,9 +1,6 @@
 // One frame in, every output message out: the code path shared by the nodelet and the offline
 // process_bag tool, so that what a bag run measures is what the nodelet publishes.
-//
-// This header does not include the core's pipeline.hpp: the core's ring_curvature::Primitive and
-// the generated message ring_curvature::Primitive cannot meet in one translation unit, and users
-// of this header publish or write the PrimitiveArray message (see primitive_message.hpp).
+
 #pragma once
 
 #include <sensor_msgs/PointCloud2.h>

@@ -49,7 +49,7 @@ constexpr const char* kCornerNs = "corners";
 constexpr const char* kRoughNs = "rough";
 
 /// Plane patches: a TRIANGLE_LIST quad spanning the patch's points in its own plane (centroid,
-/// normal = Primitive::axis, in-plane principal direction from the points) plus an ARROW along
+/// normal = PrimitiveInfo::axis, in-plane principal direction from the points) plus an ARROW along
 /// the normal. Edge chains: a LINE_STRIP through the points ordered along the edge's axis.
 /// Corner clusters and rough clusters: a SPHERE_LIST of their points. Colours: kLabelPalette.
 /// Primitives whose indices fall outside `cloud` or whose points are all non-finite are skipped.
