@@ -11,9 +11,7 @@
 #include <limits>
 #include <vector>
 
-#include "ring_curvature/pipeline.hpp"
-#include "support/cone_curves.hpp"
-#include "support/synthetic_cloud.hpp"
+#include "support/convergence_study.hpp"
 
 using namespace ring_curvature;
 using namespace ring_curvature::test;
@@ -22,51 +20,13 @@ namespace
 {
 constexpr double kPi = 3.14159265358979323846;
 
-struct Row
-{
-  std::size_t points = 0;
-  double max_error = std::numeric_limits<double>::quiet_NaN();
-};
-
-// One closed or open ring sampled at step dth on [th0, th1); max |kappa - kappa_exact| over the
-// samples whose curvature is defined. NaN error when the pipeline rejects the frame.
-template <typename Trace>
-Row measure(const Trace& tr, double th0, double th1, double dth, CurvatureMode mode)
-{
-  SyntheticCloud cloud(/*float64=*/true);  // float32 rounding would dominate below pi/128
-  std::vector<double> thetas;
-  for (double th = th0; th < th1 - 1e-9; th += dth)
-  {
-    const RangeDerivs r = tr.at(th);
-    double dx, dy, dz;
-    beamDir(tr.phi, th, dx, dy, dz);
-    cloud.add(r.rho * dx, r.rho * dy, r.rho * dz, 0);
-    thetas.push_back(th);
-  }
-  Params p;
-  p.curvature_mode = mode;
-  p.max_range = 1000;
-  Pipeline pipe(p);
-  FrameResult res;
-  Row row;
-  row.points = thetas.size();
-  if (!pipe.process(cloud.view(), res))
-    return row;
-  double worst = 0;
-  for (std::size_t i = 0; i < thetas.size(); ++i)
-    if (std::isfinite(res.curvature[i]))
-      worst = std::max(worst, std::fabs(res.curvature[i] - geodesicCurvature(tr, thetas[i])));
-  row.max_error = worst;
-  return row;
-}
-
 template <typename Trace>
 void table(const char* shape, const char* formula, const Trace& tr, double th0, double th1, CurvatureMode mode)
 {
   double prev = std::numeric_limits<double>::quiet_NaN();
   for (int div = 32; div <= 512; div *= 2)
   {
-    const Row r = measure(tr, th0, th1, kPi / div, mode);
+    const ConvergenceRow r = measureConvergence(tr, th0, th1, kPi / div, mode);
     // EOC = log2(e(2h) / e(h)): the observed order of convergence between successive halvings.
     const double eoc = std::isnan(prev) ? std::numeric_limits<double>::quiet_NaN() : std::log2(prev / r.max_error);
     std::printf("%s,%s,pi/%d,%.10g,%zu,%.6e,", shape, formula, div, kPi / div, r.points, r.max_error);
@@ -82,14 +42,10 @@ void table(const char* shape, const char* formula, const Trace& tr, double th0, 
 int main()
 {
   std::printf("shape,formula,dtheta,dtheta_rad,K,max_error,eoc\n");
-  // Same three traces as test_convergence.cpp.
-  table("cylinder R=6 a=1.5 phi=-10", "developed", CylinderTrace{6.0, 1.5, -10.0 * kPi / 180}, 0.0, 2 * kPi,
-        CurvatureMode::Developed);
-  const double a = 20.0 * kPi / 180;
-  table("wall d=5 phi=+7", "developed", PlaneTrace{std::cos(a), std::sin(a), 0.0, 5.0, 7.0 * kPi / 180}, a - kPi / 3,
-        a + kPi / 3, CurvatureMode::Developed);
-  const double b = 5.0 * kPi / 180;
-  const PlaneTrace ground{std::sin(b), 0.0, -std::cos(b), 1.8, -15.0 * kPi / 180};
+  // The same three traces as test_convergence.cpp (test/support/convergence_study.hpp).
+  table("cylinder R=6 a=1.5 phi=-10", "developed", studyCylinder(), 0.0, 2 * kPi, CurvatureMode::Developed);
+  table("wall d=5 phi=+7", "developed", studyWall(), kWallYaw - kPi / 3, kWallYaw + kPi / 3, CurvatureMode::Developed);
+  const PlaneTrace ground = studyGround();
   table("ground h=1.8 pitch=5 phi=-15", "developed", ground, 0.0, 2 * kPi, CurvatureMode::Developed);
   table("ground h=1.8 pitch=5 phi=-15", "z-plane (paper Eq 9)", ground, 0.0, 2 * kPi, CurvatureMode::Paper);
   return 0;

@@ -8,9 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "../support/cone_curves.hpp"
-#include "../support/synthetic_cloud.hpp"
-#include "ring_curvature/pipeline.hpp"
+#include "../support/convergence_study.hpp"
 
 using namespace ring_curvature;
 using namespace ring_curvature::test;
@@ -19,46 +17,15 @@ namespace
 {
 constexpr double kPi = 3.14159265358979323846;
 
-struct Row
-{
-  double dtheta;
-  std::size_t points;
-  double max_error;
-};
+using Row = ConvergenceRow;
 
-// Samples the trace on [th0, th1) at step dth (a closed ring when the range is the full circle),
-// runs the pipeline in `mode` and returns the largest |kappa - kappa_exact| over all samples
-// whose curvature is defined.
 template <typename Trace>
 Row measure(const Trace& tr, double th0, double th1, double dth, CurvatureMode mode)
 {
-  SyntheticCloud cloud(/*float64=*/true);  // float32 rounding would dominate below pi/128
-  std::vector<double> thetas;
-  for (double th = th0; th < th1 - 1e-9; th += dth)
-  {
-    const RangeDerivs r = tr.at(th);
-    double dx, dy, dz;
-    beamDir(tr.phi, th, dx, dy, dz);
-    cloud.add(r.rho * dx, r.rho * dy, r.rho * dz, 0);
-    thetas.push_back(th);
-  }
-  Params p;
-  p.curvature_mode = mode;
-  p.max_range = 1000;
-  Pipeline pipe(p);
-  FrameResult res;
-  const Status st = pipe.process(cloud.view(), res);
-  EXPECT_TRUE(st.ok) << st.message;
-  double worst = 0;
-  std::size_t defined = 0;
-  for (std::size_t i = 0; i < thetas.size(); ++i)
-  {
-    if (!std::isfinite(res.curvature[i])) continue;
-    ++defined;
-    worst = std::max(worst, std::fabs(res.curvature[i] - geodesicCurvature(tr, thetas[i])));
-  }
-  EXPECT_GE(defined + 2, thetas.size()) << "curvature undefined at interior samples";
-  return {dth, thetas.size(), worst};
+  const Row row = measureConvergence(tr, th0, th1, dth, mode);
+  EXPECT_TRUE(row.status.ok) << row.status.message;
+  EXPECT_GE(row.defined + 2, row.points) << "curvature undefined at interior samples";
+  return row;
 }
 
 template <typename Trace>
@@ -86,31 +53,24 @@ void expectFirstOrder(const char* name, const Trace& tr, double th0, double th1)
 TEST(Convergence, CylinderOffAxis)
 {
   // sensor 1.5 m off the axis of a 6 m radius tank, beam at -10 deg: a closed, non-circular ring
-  expectFirstOrder("cylinder R=6 a=1.5 phi=-10", CylinderTrace{6.0, 1.5, -10.0 * kPi / 180}, 0.0, 2 * kPi);
+  expectFirstOrder("cylinder R=6 a=1.5 phi=-10", studyCylinder(), 0.0, 2 * kPi);
 }
 
 TEST(Convergence, VerticalPlane)
 {
-  const double a = 20.0 * kPi / 180;
-  expectFirstOrder("wall d=5 phi=+7", PlaneTrace{std::cos(a), std::sin(a), 0.0, 5.0, 7.0 * kPi / 180},
-                   a - kPi / 3, a + kPi / 3);
+  expectFirstOrder("wall d=5 phi=+7", studyWall(), kWallYaw - kPi / 3, kWallYaw + kPi / 3);
 }
 
 TEST(Convergence, TiltedGround)
 {
-  // A level sensor 1.8 m over level ground traces an exact circle (constant range), for which
-  // Eq 9 is exact at every step; a 5 deg pitch makes the ground trace a genuine test.
-  const double b = 5.0 * kPi / 180;
-  expectFirstOrder("ground h=1.8 pitch=5 phi=-15", PlaneTrace{std::sin(b), 0.0, -std::cos(b), 1.8, -15.0 * kPi / 180},
-                   0.0, 2 * kPi);
+  expectFirstOrder("ground h=1.8 pitch=5 phi=-15", studyGround(), 0.0, 2 * kPi);
 }
 
 TEST(Convergence, PaperZPlaneFormulaMissesTheConeAtNonZeroElevation)
 {
   // READING_NOTES 1: Eq 9 taken in the z-plane converges to a different quantity when phi != 0;
   // on the same tilted ground the developed-plane error keeps shrinking, the z-plane one stalls.
-  const double b = 5.0 * kPi / 180;
-  const PlaneTrace g{std::sin(b), 0.0, -std::cos(b), 1.8, -15.0 * kPi / 180};
+  const PlaneTrace g = studyGround();
   const Row dev = measure(g, 0.0, 2 * kPi, kPi / 512, CurvatureMode::Developed);
   const Row zpl = measure(g, 0.0, 2 * kPi, kPi / 512, CurvatureMode::Paper);
   std::printf("\nground at pi/512: developed max error %.3e, z-plane (paper) max error %.3e\n", dev.max_error,

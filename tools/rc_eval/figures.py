@@ -37,15 +37,17 @@ def plot_convergence(rows, path):
     curves = {}
     for r in rows:
         curves.setdefault((r["shape"], r["formula"]), []).append((float(r["dtheta_rad"]), float(r["max_error"])))
-    for (shape, formula), pts in curves.items():
+    # distinct markers and sizes: the cylinder's and the ground's errors nearly coincide
+    for i, ((shape, formula), pts) in enumerate(curves.items()):
         h, e = np.array(pts).T
-        ax.loglog(h, e, "o-" if formula == "developed" else "s--", label="%s (%s)" % (shape, formula))
+        ax.loglog(h, e, ("-" if formula == "developed" else "--"), marker="o^sDv"[i % 5], ms=9 - 2 * (i % 3),
+                  label="%s (%s)" % (shape, formula))
     h = np.array(sorted({float(r["dtheta_rad"]) for r in rows}))
     e0 = min(float(r["max_error"]) for r in rows if float(r["dtheta_rad"]) == h[-1])
     ax.loglog(h, e0 * h / h[-1], ":", color="0.4", label="slope 1 (first order)")
     ax.set_xlabel("azimuth step dtheta [rad]")
     ax.set_ylabel("max |kappa - kappa_exact| [1/m]")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="lower right")
     ax.grid(True, which="both", lw=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
