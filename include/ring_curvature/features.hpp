@@ -32,6 +32,8 @@ private:
   std::vector<float> ds_;             // arc length to the next sample
   std::vector<int> seg_id_;           // curve segment of each sample (gaps split segments)
   std::vector<double> prefix_;        // prefix sums for windowed statistics
+  std::vector<int> half_;             // chord mode: samples per half chord
+  std::vector<double> turn_len_;      // turning angle, arc length, chord products per sample
 };
 
 }  // namespace ring_curvature

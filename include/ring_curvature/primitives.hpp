@@ -48,6 +48,8 @@ private:
   std::vector<std::uint16_t> ring_of_pos_;
   std::vector<std::int32_t> root_to_prim_;
   std::vector<std::uint32_t> fill_;
+  std::vector<Eigen::Matrix3d> cov_;    // second moments per primitive (reused across frames)
+  std::vector<Eigen::Vector3d> centre_; // centroid per primitive, as double
 };
 
 }  // namespace ring_curvature

@@ -2,6 +2,8 @@
 // the map back to the input point index. Built in O(n) from a PointCloudView.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -45,6 +47,7 @@ struct ScanGrid
   // per input point
   std::vector<PointState> state;
   std::vector<std::int32_t> grid_pos; ///< grid position (for Duplicate: its representative), or -1
+  std::vector<std::uint32_t> duplicates;  ///< input indices of the Duplicate points, ascending
 
   std::size_t num_input = 0, num_valid = 0, num_duplicates = 0, num_second_returns = 0;
 
@@ -64,7 +67,7 @@ public:
 
 private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
-  void assignRingsFromElevation(const Params& params, ScanGrid& grid);
+  void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void sortRings(const Params& params, ScanGrid& grid);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);
@@ -74,7 +77,7 @@ private:
 
   // scratch, per input point
   std::vector<std::int32_t> ring_of_;
-  std::vector<double> px_, py_, pz_, prange_;
+  std::vector<double> prange_;
   std::vector<float> paz_;
   // scratch, per ring / bin
   std::vector<std::uint32_t> counts_, bin_start_;
@@ -84,7 +87,21 @@ private:
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position
 };
 
-/// Fast atan2 (max error ~1e-5 rad) used for azimuths; exposed for tests.
-float fastAtan2(float y, float x);
+/// Fast atan2 (max error ~1e-5 rad) used for azimuths; exposed for tests. Inline: it runs once
+/// per point in the grid and once per turning angle in the features (an out-of-line call was
+/// ~10 % of a frame under perf).
+inline float fastAtan2(float y, float x)
+{
+  const float ax = std::fabs(x), ay = std::fabs(y);
+  const float mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (!(mx > 0.0f)) return 0.0f;
+  const float a = mn / mx;
+  const float s = a * a;
+  // Minimax polynomial for atan on [0, 1] (max error ~1e-5 rad, far below a 0.1 deg azimuth step).
+  float r = ((((0.0208351f * s - 0.0851330f) * s + 0.1801410f) * s - 0.3302995f) * s + 0.9998660f) * a;
+  if (ay > ax) r = 1.57079637f - r;
+  if (x < 0.0f) r = 3.14159265358979f - r;
+  return y < 0.0f ? -r : r;
+}
 
 }  // namespace ring_curvature

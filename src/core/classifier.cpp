@@ -114,35 +114,71 @@ float selectQuantile(float* v, std::size_t n, double q)
   if (n == 0) return std::numeric_limits<float>::quiet_NaN();
   // nearest-rank quantile: the value at position floor(q * (n - 1))
   std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
-  // Radix selection (11 + 11 + 10 bits, most significant first): each pass counts the digit of
-  // the remaining candidates and moves those in the bucket that holds rank k to the front. Same
-  // element as nth_element, but without its unpredictable comparisons, which made this the
-  // second largest cost of a frame (perf). Swaps, never overwrites: callers reuse all n values.
-  constexpr int kShift[3] = {21, 10, 0};
-  constexpr std::uint32_t kMask[3] = {0x7FF, 0x7FF, 0x3FF};
-  std::uint32_t counts[2048];
+  // Radix selection, most significant digit first: each pass counts the digit of the remaining
+  // candidates and moves those in the bucket that holds rank k to the front. Same element as
+  // nth_element, but without its unpredictable comparisons, which made this the second largest
+  // cost of a frame (perf). The digits start at the highest bit in which the keys differ: the
+  // values of one selection often share their sign, exponent and leading mantissa bits (the
+  // azimuth spacings of a frame agree to ~1 %), and fixed digits from bit 31 down spent whole
+  // passes over every value to learn nothing. The k-th key does not depend on the digits.
+  // Swaps, never overwrites: callers reuse all n values.
   std::size_t m = n;
   float* c = v;
-  for (int pass = 0; pass < 3 && m > 32; ++pass)
+  if (m <= 32)
   {
-    const int sh = kShift[pass];
-    const std::uint32_t mask = kMask[pass];
+    std::nth_element(c, c + k, c + m);
+    return c[k];
+  }
+  std::uint32_t lo = 0xFFFFFFFFu, hi = 0;
+  for (std::size_t i = 0; i < m; ++i)
+  {
+    const std::uint32_t key = orderedKey(c[i]);
+    lo = std::min(lo, key);
+    hi = std::max(hi, key);
+  }
+  if (lo == hi) return c[k];  // one key: every value is the same float
+  int top = 31;               // highest bit still undecided
+  while (((lo ^ hi) >> top) == 0) --top;
+  constexpr int kDigit = 11;
+  // Two histograms, for even and odd positions: runs of equal digits (the common case) would
+  // otherwise chain every increment to the store of the one before.
+  std::uint32_t counts[1u << kDigit], counts_odd[1u << kDigit];
+  while (m > 32)
+  {
+    // Digit width from the candidate count: a ring's few thousand values would otherwise spend
+    // more time clearing, scanning and merging 2 x 2048 counters than counting themselves.
+    int digit = 6;
+    while (digit < kDigit && (std::size_t{1} << (digit + 2)) <= m) ++digit;
+    const int sh = std::max(0, top + 1 - digit);
+    const std::uint32_t mask = (1u << (top + 1 - sh)) - 1u;
     std::fill(counts, counts + mask + 1, 0u);
-    for (std::size_t i = 0; i < m; ++i) ++counts[(orderedKey(c[i]) >> sh) & mask];
+    std::fill(counts_odd, counts_odd + mask + 1, 0u);
+    std::size_t i2 = 0;
+    for (; i2 + 1 < m; i2 += 2)
+    {
+      ++counts[(orderedKey(c[i2]) >> sh) & mask];
+      ++counts_odd[(orderedKey(c[i2 + 1]) >> sh) & mask];
+    }
+    if (i2 < m) ++counts[(orderedKey(c[i2]) >> sh) & mask];
+    for (std::uint32_t d = 0; d <= mask; ++d) counts[d] += counts_odd[d];
     std::uint32_t bucket = 0;
     std::size_t below = 0;
     while (below + counts[bucket] <= k) below += counts[bucket++];
     k -= below;
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < m; ++i)
+    if (counts[bucket] != m)  // else every candidate is in it: nothing to move
     {
-      // branch-free partition: [j, i) holds non-members, so swapping a non-member is harmless
-      const bool in = ((orderedKey(c[i]) >> sh) & mask) == bucket;
-      std::swap(c[i], c[j]);
-      j += in ? 1 : 0;
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < m; ++i)
+      {
+        // branch-free partition: [j, i) holds non-members, so swapping a non-member is harmless
+        const bool in = ((orderedKey(c[i]) >> sh) & mask) == bucket;
+        std::swap(c[i], c[j]);
+        j += in ? 1 : 0;
+      }
+      m = counts[bucket];
     }
-    m = counts[bucket];
-    if (pass == 2) return c[k];  // every candidate left has the same key
+    if (sh == 0) return c[k];  // every candidate left has the same key
+    top = sh - 1;
   }
   std::nth_element(c, c + k, c + m);
   return c[k];

@@ -129,20 +129,45 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
     wy = g.range[pj] * s;
   };
 
+  // The loop below is a long chain of dependent divisions and square roots per sample. Its
+  // parts are split into short loops of independent iterations, whose divisions the CPU overlaps
+  // (and the branch-free middle one the compiler vectorizes): the chord's sample count (a
+  // division and a ceil) first, then the developed chords, then (chord mode) the turning angle
+  // and the arc length, then kappa = turn / len. Each value is computed by the same operations
+  // as before, so the results are identical.
   const float chord = P.chord_length;
   const double res = std::max(1e-6f, g.azimuth_resolution);
-  for (std::uint32_t k = 0; k < K; ++k)
+  half_.resize(K);
+  turn_len_.resize(6 * static_cast<std::size_t>(K));
+  int* H = half_.data();
+  double* TURN = turn_len_.data();
+  double* LEN = TURN + K;
+  double* CROSS = LEN + K;  // chord mode: the chords' cross and dot products, squared lengths
+  double* DOT = CROSS + K;
+  double* V2 = DOT + K;
+  double* U2 = V2 + K;
+  if (P.curvature_mode == CurvatureMode::Chord)
   {
-    const std::uint32_t pk = b + k;
-    if (L[k] == 0 || Rr[k] == 0) continue;  // turning angle needs a neighbour on each side
-    int hl = 1, hr = 1;
-    if (P.curvature_mode == CurvatureMode::Chord)
+    for (std::uint32_t k = 0; k < K; ++k)
     {
       // Samples needed for a chord of `chord` metres at this range (spacing ~ rho cos(phi) dtheta).
       const double spacing = rho[k] * cone_cos * res;
-      const int h = std::clamp(static_cast<int>(std::ceil(chord / (spacing > 1e-6 ? spacing : 1e-6))  /* NaN-safe */), 1, P.max_chord_samples);
-      hl = std::min(h, L[k]);
-      hr = std::min(h, Rr[k]);
+      H[k] = std::clamp(static_cast<int>(std::ceil(chord / (spacing > 1e-6 ? spacing : 1e-6))  /* NaN-safe */), 1, P.max_chord_samples);
+    }
+  }
+  for (std::uint32_t k = 0; k < K; ++k)
+  {
+    const std::uint32_t pk = b + k;
+    if (L[k] == 0 || Rr[k] == 0)  // turning angle needs a neighbour on each side
+    {
+      CROSS[k] = DOT[k] = V2[k] = U2[k] = 0.0;  // benign input for the loop below; not stored
+      continue;
+    }
+    int hl = 1, hr = 1;
+    if (P.curvature_mode == CurvatureMode::Chord)
+    {
+      hl = std::min(H[k], L[k]);
+      hr = std::min(H[k], Rr[k]);
     }
     const std::uint32_t pp = R.pos(static_cast<std::int64_t>(k) - hl);
     const std::uint32_t pn = R.pos(static_cast<std::int64_t>(k) + hr);
@@ -152,23 +177,36 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
     const double vx = rho[k] - ax, vy = -ay;  // incoming chord
     const double ux = cx - rho[k], uy = cy;   // outgoing chord
     const double cross = vx * uy - vy * ux, dot = vx * ux + vy * uy;
-    const double turn = std::fabs(exact ? std::atan2(cross, dot)
-                                        : static_cast<double>(fastAtan2(static_cast<float>(cross), static_cast<float>(dot))));
-    double len;
     if (exact)
     {
+      TURN[k] = std::fabs(std::atan2(cross, dot));
       // Eq 6: cone-metric arc length of the incoming step (midpoint rule); Eq 9 divides by it.
       const double dr = rho[k] - g.range[pp];
       const double rbar = 0.5 * (rho[k] + g.range[pp]);
       const double dth = relAngle(pp, pk);
-      len = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
+      LEN[k] = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
     }
     else
     {
-      len = 0.5 * (std::sqrt(vx * vx + vy * vy) + std::sqrt(ux * ux + uy * uy));
+      CROSS[k] = cross;
+      DOT[k] = dot;
+      V2[k] = vx * vx + vy * vy;
+      U2[k] = ux * ux + uy * uy;
     }
-    out.turning[pk] = static_cast<float>(turn);
-    out.curvature[pk] = len > 0 ? static_cast<float>(turn / len) : kNaN;
+  }
+  if (!exact)
+  {
+    for (std::uint32_t k = 0; k < K; ++k)
+    {
+      TURN[k] = std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
+      LEN[k] = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
+    }
+  }
+  for (std::uint32_t k = 0; k < K; ++k)
+  {
+    if (L[k] == 0 || Rr[k] == 0) continue;
+    out.turning[b + k] = static_cast<float>(TURN[k]);
+    out.curvature[b + k] = LEN[k] > 0 ? static_cast<float>(TURN[k] / LEN[k]) : kNaN;
   }
 
   // Discontinuity.
@@ -206,7 +244,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
       return static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
     };
     // Each link once (a point shares its links with its neighbours): jump[k] is link (k-1, k),
-    // NaN where there is none. wy_ is free until the smoothness below.
+    // NaN where there is none (in the scratch wy_).
     auto& jump = wy_;
     jump.resize(K);
     for (std::uint32_t k = 0; k < K; ++k) jump[k] = L[k] >= 1 ? linkJump(k) : kNaN;
@@ -227,26 +265,19 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   const int w = P.smoothness_window;
   const int ext = closed ? w : 0;
   const std::size_t E = K + 2 * static_cast<std::size_t>(ext);
-  prefix_.assign(3 * (E + 1), 0.0);
+  prefix_.resize(3 * (E + 1));  // every entry but the three leading zeros is written below
   double* S0 = prefix_.data();          // sum rho
   double* S1 = S0 + (E + 1);            // sum j * rho
   double* S2 = S1 + (E + 1);            // sum rho^2
+  S0[0] = S1[0] = S2[0] = 0.0;
   for (std::size_t e = 0; e < E; ++e)
   {
-    const double r = g.range[R.pos(static_cast<std::int64_t>(e) - ext)];
+    // the ring itself is read directly; only the seam extensions need the wrap-around
+    const std::size_t k = e - static_cast<std::size_t>(ext);
+    const double r = k < K ? rho[k] : g.range[R.pos(static_cast<std::int64_t>(e) - ext)];
     S0[e + 1] = S0[e] + r;
     S1[e + 1] = S1[e] + static_cast<double>(e) * r;
     S2[e + 1] = S2[e] + r * r;
-  }
-  auto& wl = wx_;  // reach of the smoothness window (left / right), stored as float for reuse
-  auto& wr = wy_;
-  wl.resize(K);
-  wr.resize(K);
-  for (std::uint32_t k = 0; k < K; ++k)
-  {
-    const int a = std::min(w, L[k]), z = std::min(w, Rr[k]);
-    wl[k] = static_cast<float>(a);
-    wr[k] = static_cast<float>(z);
   }
   // Residual variance of rho over extended indices [lo, hi): plain (Eq 10) or after removing
   // the least-squares line through the window.
@@ -284,7 +315,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   };
   for (std::uint32_t k = 0; k < K; ++k)
   {
-    const int a = static_cast<int>(wl[k]), z = static_cast<int>(wr[k]);
+    const int a = std::min(w, L[k]), z = std::min(w, Rr[k]);  // reach of the window, left / right
     const std::size_t c0 = k + static_cast<std::size_t>(ext);
     const std::size_t lo = c0 - static_cast<std::size_t>(a);
     const std::size_t hi = c0 + static_cast<std::size_t>(z) + 1;  // exclusive

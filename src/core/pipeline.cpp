@@ -62,18 +62,33 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
   out.smoothness.assign(n, kNaN);
   out.discontinuity.assign(n, kNaN);
   out.primitive.assign(n, -1);
-  for (std::size_t i = 0; i < n; ++i)
+  // Walk the grid in order (sequential reads of five arrays) and write to each point's input
+  // index, rather than walking the input and reading the grid at random through grid_pos.
+  const std::size_t m = grid_.size();
+  for (std::size_t p = 0; p < m; ++p)
   {
-    const PointState s = grid_.state[i];
-    if (s != PointState::OnGrid && s != PointState::Duplicate) continue;
-    const auto p = static_cast<std::size_t>(grid_.grid_pos[i]);
-    out.label[i] = static_cast<std::uint8_t>(labels_[p]);
+    const std::size_t i = grid_.index[p];
+    const auto l = static_cast<std::uint8_t>(labels_[p]);
+    out.label[i] = l;
     out.curvature[i] = features_.curvature[p];
     out.smoothness[i] = features_.smoothness[p];
     out.discontinuity[i] = features_.discontinuity[p];
     out.primitive[i] = out.primitives.of_grid[p];
+    ++out.label_counts[l];
   }
-  for (std::size_t i = 0; i < n; ++i) ++out.label_counts[out.label[i]];
+  for (const std::uint32_t i : grid_.duplicates)
+  {
+    const auto p = static_cast<std::size_t>(grid_.grid_pos[i]);
+    const auto l = static_cast<std::uint8_t>(labels_[p]);
+    out.label[i] = l;
+    out.curvature[i] = features_.curvature[p];
+    out.smoothness[i] = features_.smoothness[p];
+    out.discontinuity[i] = features_.discontinuity[p];
+    out.primitive[i] = out.primitives.of_grid[p];
+    ++out.label_counts[l];
+  }
+  // everything else (invalid returns, second returns) is None
+  out.label_counts[static_cast<std::size_t>(Label::None)] += n - m - grid_.duplicates.size();
   out.times.output = msSince(t);
   return Status::success();
 }

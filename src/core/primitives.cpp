@@ -19,7 +19,9 @@ inline float angDiff(float a, float b)
 }
 }  // namespace
 
-std::uint32_t PrimitiveExtractor::find(std::uint32_t a)
+// inline: only extract() calls these, and out of line each call went through the shared
+// library's PLT (perf showed find@plt).
+inline std::uint32_t PrimitiveExtractor::find(std::uint32_t a)
 {
   while (parent_[a] != a)
   {
@@ -29,7 +31,7 @@ std::uint32_t PrimitiveExtractor::find(std::uint32_t a)
   return a;
 }
 
-void PrimitiveExtractor::unite(std::uint32_t a, std::uint32_t b)
+inline void PrimitiveExtractor::unite(std::uint32_t a, std::uint32_t b)
 {
   a = find(a);
   b = find(b);
@@ -52,9 +54,12 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     std::fill(ring_of_pos_.begin() + g.ring_begin[static_cast<std::size_t>(n)],
               ring_of_pos_.begin() + g.ring_begin[static_cast<std::size_t>(n) + 1], static_cast<std::uint16_t>(n));
 
-  auto wanted = [&](Label l) {
-    return l == Label::Plane || l == Label::Edge || l == Label::Corner || (l == Label::Rough && P.rough_primitives);
-  };
+  // a table: this is asked once or more per grid position in every loop below
+  const bool want[kNumLabels] = {false, true, true, true, P.rough_primitives};
+  static_assert(static_cast<int>(Label::Plane) == 1 && static_cast<int>(Label::Edge) == 2 &&
+                    static_cast<int>(Label::Corner) == 3 && static_cast<int>(Label::Rough) == 4,
+                "want[] is indexed by Label");
+  auto wanted = [&](Label l) { return want[static_cast<std::size_t>(l)]; };
   const float az_tol = P.proximity_azimuth_factor * g.azimuth_resolution;  // Eq 19
   auto close = [&](std::uint32_t a, std::uint32_t b, bool check_azimuth) {
     const double ra = g.range[a], rb = g.range[b];
@@ -94,21 +99,27 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // A root is the smallest position of its component (see unite) and path halving keeps
   // parent_[p] <= p, so one forward pass points every position straight at its root: the
   // look-ups below are then a load instead of a find() each.
-  for (std::size_t p = 0; p < m; ++p) parent_[p] = parent_[parent_[p]];
-
-  // Component sizes, then ids for the large-enough ones in scan order.
-  root_to_prim_.assign(m, -1);
+  // Component sizes (in the same pass), then ids for the large-enough ones in scan order.
   fill_.assign(m, 0);  // size per root
   for (std::size_t p = 0; p < m; ++p)
+  {
+    parent_[p] = parent_[parent_[p]];
     if (wanted(labels[p])) ++fill_[parent_[p]];
+  }
   // duplicates (same firing, same range) join their representative's primitive
-  for (std::size_t i = 0; i < g.num_input; ++i)
-    if (g.state[i] == PointState::Duplicate && wanted(labels[static_cast<std::size_t>(g.grid_pos[i])]))
-      ++fill_[parent_[static_cast<std::size_t>(g.grid_pos[i])]];
+  for (const std::uint32_t i : g.duplicates)
+    if (wanted(labels[static_cast<std::size_t>(g.grid_pos[i])])) ++fill_[parent_[static_cast<std::size_t>(g.grid_pos[i])]];
   std::uint32_t total = 0;
+  // root_to_prim_ is only read at the roots of wanted positions, so only those are written
+  root_to_prim_.resize(m);
   for (std::size_t p = 0; p < m; ++p)
   {
-    if (!wanted(labels[p]) || parent_[p] != p || fill_[p] < static_cast<std::uint32_t>(P.min_primitive_points)) continue;
+    if (!wanted(labels[p]) || parent_[p] != p) continue;
+    if (fill_[p] < static_cast<std::uint32_t>(P.min_primitive_points))
+    {
+      root_to_prim_[p] = -1;
+      continue;
+    }
     PrimitiveInfo prim;
     prim.id = static_cast<std::uint32_t>(out.primitives.size());
     prim.label = labels[p];
@@ -145,23 +156,40 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     out.of_grid[p] = id;
     if (id >= 0) addPoint(id, g.index[p], static_cast<std::uint32_t>(p));
   }
-  for (std::size_t i = 0; i < g.num_input; ++i)
+  for (const std::uint32_t i : g.duplicates)
   {
-    if (g.state[i] != PointState::Duplicate) continue;
     const std::int32_t id = out.of_grid[static_cast<std::size_t>(g.grid_pos[i])];
-    if (id >= 0) addPoint(id, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(g.grid_pos[i]));
+    if (id >= 0) addPoint(id, i, static_cast<std::uint32_t>(g.grid_pos[i]));
+  }
+  for (auto& pr : out.primitives) pr.centroid /= static_cast<float>(pr.num_points);
+
+  // Second moments about the centroids, accumulated in grid order (a sequential read) rather
+  // than primitive by primitive through `indices` (a random read per point). Each primitive
+  // still sums its points in the order of its indices (grid order, then duplicates in input
+  // order), so the sums are bit for bit the same.
+  cov_.resize(out.primitives.size());
+  centre_.resize(out.primitives.size());
+  for (std::size_t j = 0; j < out.primitives.size(); ++j)
+  {
+    cov_[j].setZero();
+    centre_[j] = out.primitives[j].centroid.cast<double>();
+  }
+  auto addMoment = [&](std::int32_t id, std::size_t pos) {
+    const Eigen::Vector3d& c = centre_[static_cast<std::size_t>(id)];
+    const Eigen::Vector3d d(g.x[pos] - c.x(), g.y[pos] - c.y(), g.z[pos] - c.z());
+    cov_[static_cast<std::size_t>(id)].noalias() += d * d.transpose();
+  };
+  for (std::size_t p = 0; p < m; ++p)
+    if (out.of_grid[p] >= 0) addMoment(out.of_grid[p], p);
+  for (const std::uint32_t i : g.duplicates)
+  {
+    const auto pos = static_cast<std::size_t>(g.grid_pos[i]);
+    if (out.of_grid[pos] >= 0) addMoment(out.of_grid[pos], pos);
   }
   for (auto& pr : out.primitives)
   {
-    pr.centroid /= static_cast<float>(pr.num_points);
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    const Eigen::Vector3d c = pr.centroid.cast<double>();
-    for (std::uint32_t j = 0; j < pr.num_points; ++j)
-    {
-      const std::size_t pos = static_cast<std::size_t>(g.grid_pos[out.indices[pr.first + j]]);
-      const Eigen::Vector3d d(g.x[pos] - c.x(), g.y[pos] - c.y(), g.z[pos] - c.z());
-      cov.noalias() += d * d.transpose();
-    }
+    Eigen::Matrix3d& cov = cov_[pr.id];
+    const Eigen::Vector3d& c = centre_[pr.id];
     cov /= static_cast<double>(pr.num_points);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);

@@ -2,6 +2,8 @@
 // azimuth within each ring (rings arrive nearly sorted, so buckets hold one or two points).
 #include "ring_curvature/scan_grid.hpp"
 
+#include "cloud_view_checks.hpp"
+
 #include "ring_curvature/classifier.hpp"  // selectQuantile
 
 #include <algorithm>
@@ -25,106 +27,6 @@ float wrapPi(float a)
   return a;
 }
 
-bool overlaps(const FieldView& a, const FieldView& b)
-{
-  if (!a.present() || !b.present()) return false;
-  const auto ae = a.offset + static_cast<std::int64_t>(scalarSize(a.type));
-  const auto be = b.offset + static_cast<std::int64_t>(scalarSize(b.type));
-  return a.offset < be && b.offset < ae;
-}
-
-Status checkField(const char* name, const FieldView& f, std::uint32_t point_step)
-{
-  const std::size_t sz = scalarSize(f.type);
-  if (sz == 0)
-  {
-    std::ostringstream s;
-    s << "field '" << name << "' has an invalid datatype code " << static_cast<int>(f.type);
-    return Status::error(s.str());
-  }
-  if (f.offset < 0 || static_cast<std::uint64_t>(f.offset) + sz > point_step)
-  {
-    std::ostringstream s;
-    s << "field '" << name << "' (offset " << f.offset << ", " << sz << " bytes) lies outside the point record "
-      << "(point_step " << point_step << ")";
-    return Status::error(s.str());
-  }
-  return Status::success();
-}
-
-Status checkLayout(const PointCloudView& v, const Params& params)
-{
-  if (v.width == 0 || v.height == 0) return Status::success();  // empty frame: legal, nothing to do
-  if (v.data == nullptr) return Status::error("cloud has points but no data buffer");
-  if (v.point_step == 0) return Status::error("point_step is 0");
-  const std::uint64_t min_row = static_cast<std::uint64_t>(v.width) * v.point_step;
-  if (v.row_step < min_row)
-  {
-    std::ostringstream s;
-    s << "row_step " << v.row_step << " is smaller than width * point_step = " << v.width << " * " << v.point_step
-      << " = " << min_row;
-    return Status::error(s.str());
-  }
-  const std::uint64_t need = static_cast<std::uint64_t>(v.row_step) * (v.height - 1) + min_row;
-  if (v.data_size < need)
-  {
-    std::ostringstream s;
-    s << "data holds " << v.data_size << " bytes but width " << v.width << " x height " << v.height
-      << " with row_step " << v.row_step << " needs " << need << " (truncated cloud)";
-    return Status::error(s.str());
-  }
-  const struct
-  {
-    const char* name;
-    const FieldView& f;
-  } xyz[] = {{"x", v.x}, {"y", v.y}, {"z", v.z}};
-  for (const auto& c : xyz)
-  {
-    if (!c.f.present()) return Status::error(std::string("cloud has no '") + c.name + "' field");
-    if (c.f.type != ScalarType::Float32 && c.f.type != ScalarType::Float64)
-      return Status::error(std::string("field '") + c.name + "' has type " + scalarTypeName(c.f.type) +
-                           "; expected float32 or float64");
-    Status st = checkField(c.name, c.f, v.point_step);
-    if (!st) return st;
-  }
-  if (v.ring.present())
-  {
-    if (!isIntegerType(v.ring.type))
-      return Status::error(std::string("field 'ring' has type ") + scalarTypeName(v.ring.type) +
-                           "; expected an integer type (uint8, uint16, int16, int32, ...)");
-    Status st = checkField("ring", v.ring, v.point_step);
-    if (!st) return st;
-  }
-  else if (!v.organized() && !params.ring_from_elevation)
-  {
-    return Status::error("cloud has no 'ring' field and is unorganized (height 1): use a driver that publishes "
-                         "the per-point ring, or set ring_from_elevation to derive rings from elevation angles");
-  }
-  if (v.time.present())
-  {
-    Status st = checkField("time", v.time, v.point_step);
-    if (!st) return st;
-  }
-  if (v.intensity.present())
-  {
-    Status st = checkField("intensity", v.intensity, v.point_step);
-    if (!st) return st;
-  }
-  const FieldView* used[] = {&v.x, &v.y, &v.z, &v.ring};
-  const char* names[] = {"x", "y", "z", "ring"};
-  for (int a = 0; a < 4; ++a)
-    for (int b = a + 1; b < 4; ++b)
-      if (overlaps(*used[a], *used[b]))
-        return Status::error(std::string("fields '") + names[a] + "' and '" + names[b] + "' overlap in the point record");
-  if (v.organized() && v.height > static_cast<std::uint32_t>(params.max_rings))
-  {
-    std::ostringstream s;
-    s << "organized cloud has " << v.height << " rows (rings) but max_rings is " << params.max_rings;
-    return Status::error(s.str());
-  }
-  return Status::success();
-}
-
 inline double readCoord(const std::uint8_t* rec, const FieldView& f)
 {
   if (f.type == ScalarType::Float32) return readFloat32(rec + f.offset);
@@ -133,20 +35,6 @@ inline double readCoord(const std::uint8_t* rec, const FieldView& f)
   return d;
 }
 }  // namespace
-
-float fastAtan2(float y, float x)
-{
-  const float ax = std::fabs(x), ay = std::fabs(y);
-  const float mx = std::max(ax, ay), mn = std::min(ax, ay);
-  if (!(mx > 0.0f)) return 0.0f;
-  const float a = mn / mx;
-  const float s = a * a;
-  // Minimax polynomial for atan on [0, 1] (max error ~1e-5 rad, far below a 0.1 deg azimuth step).
-  float r = ((((0.0208351f * s - 0.0851330f) * s + 0.1801410f) * s - 0.3302995f) * s + 0.9998660f) * a;
-  if (ay > ax) r = 1.57079637f - r;
-  if (x < 0.0f) r = kPi - r;
-  return y < 0.0f ? -r : r;
-}
 
 int ScanGrid::ringOf(std::uint32_t pos) const
 {
@@ -165,6 +53,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = 0;
   for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
   grid.azimuth.clear();
+  grid.duplicates.clear();
   grid.linked.clear();
   grid.up.clear();
 
@@ -179,7 +68,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     grid.grid_pos.clear();
     return st;
   }
-  if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(params, grid);
+  if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(view, params, grid);
   if (view.organized())
     placeOrganized(view, grid);
   else
@@ -187,7 +76,10 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   measureResolution(params, grid);
   if (!view.organized()) removeDuplicates(params, grid);
 
-  // Gather the structure-of-arrays grid in final order.
+  // Gather the structure-of-arrays grid in final order. x, y, z are read from the input records
+  // themselves (one cache line per point) instead of from per-input scratch copies: those were
+  // three more arrays written per input point and read back at random here. The values are the
+  // same (float32 widens to double exactly; float64 is copied).
   const std::size_t m = tmp_index_.size();
   grid.index.assign(tmp_index_.begin(), tmp_index_.end());
   grid.x.resize(m);
@@ -195,21 +87,48 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   grid.z.resize(m);
   grid.range.resize(m);
   grid.azimuth.resize(m);
+  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
+                    view.z.type == ScalarType::Float32;
+  const std::size_t W = view.width;
+  std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
   for (std::size_t p = 0; p < m; ++p)
   {
     const std::uint32_t i = tmp_index_[p];
-    grid.x[p] = px_[i];
-    grid.y[p] = py_[i];
-    grid.z[p] = pz_[i];
+    const std::uint8_t* rec;
+    if (view.height == 1)
+    {
+      rec = view.data + static_cast<std::size_t>(i) * view.point_step;
+    }
+    else
+    {
+      while (i >= (row + 1) * W) ++row;
+      rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
+    }
+    if (fast)
+    {
+      grid.x[p] = readFloat32(rec + view.x.offset);
+      grid.y[p] = readFloat32(rec + view.y.offset);
+      grid.z[p] = readFloat32(rec + view.z.offset);
+    }
+    else
+    {
+      grid.x[p] = readCoord(rec, view.x);
+      grid.y[p] = readCoord(rec, view.y);
+      grid.z[p] = readCoord(rec, view.z);
+    }
     grid.range[p] = prange_[i];
     grid.azimuth[p] = paz_[i];
     grid.grid_pos[i] = static_cast<std::int32_t>(p);
   }
   grid.num_valid = m;
   // Duplicates and second returns point at their representative (stored as an input index).
+  grid.duplicates.clear();
   for (std::size_t i = 0; i < grid.num_input; ++i)
-    if (grid.state[i] == PointState::Duplicate || grid.state[i] == PointState::SecondReturn)
-      grid.grid_pos[i] = grid.grid_pos[static_cast<std::size_t>(ring_of_[i])];
+  {
+    if (grid.state[i] != PointState::Duplicate && grid.state[i] != PointState::SecondReturn) continue;
+    grid.grid_pos[i] = grid.grid_pos[static_cast<std::size_t>(ring_of_[i])];
+    if (grid.state[i] == PointState::Duplicate) grid.duplicates.push_back(static_cast<std::uint32_t>(i));
+  }
 
   // Mean elevation per ring (for the cone's development factor cos(phi)).
   grid.ring_elevation.assign(static_cast<std::size_t>(grid.num_rings), 0.0f);
@@ -235,9 +154,6 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   grid.state.assign(n, PointState::Invalid);
   grid.grid_pos.assign(n, -1);
   ring_of_.resize(n);
-  px_.resize(n);
-  py_.resize(n);
-  pz_.resize(n);
   prange_.resize(n);
   paz_.resize(n);
   const float rmin = params.min_range, rmax = params.max_range;
@@ -288,9 +204,6 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
         if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
       }
       const double range = std::sqrt(x * x + y * y + z * z);
-      px_[i] = x;
-      py_[i] = y;
-      pz_[i] = z;
       prange_[i] = range;
       if (!(range >= static_cast<double>(rmin) && range <= static_cast<double>(rmax)))  // also rejects NaN, inf
       {
@@ -307,7 +220,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   return Status::success();
 }
 
-void ScanGridBuilder::assignRingsFromElevation(const Params& params, ScanGrid& grid)
+void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)
 {
   // Histogram of elevation at 0.05 deg; runs of occupied bins (a beam's spread) become rings,
   // numbered from the lowest elevation up (the velodyne convention).
@@ -319,8 +232,10 @@ void ScanGridBuilder::assignRingsFromElevation(const Params& params, ScanGrid& g
   for (std::size_t i = 0; i < n; ++i)
   {
     if (ring_of_[i] < 0) continue;
-    const float horiz = static_cast<float>(std::sqrt(px_[i] * px_[i] + py_[i] * py_[i]));
-    const float el = fastAtan2(static_cast<float>(pz_[i]), horiz);
+    const std::uint8_t* rec = view.record(i);  // unorganized here: no per-point division cost
+    const double x = readCoord(rec, view.x), y = readCoord(rec, view.y), z = readCoord(rec, view.z);
+    const float horiz = static_cast<float>(std::sqrt(x * x + y * y));
+    const float el = fastAtan2(static_cast<float>(z), horiz);
     tmp_f_[i] = el;
     const int b = std::clamp(static_cast<int>((el + kPi / 2) / kBinRad), 0, kBins - 1);
     ++counts_[static_cast<std::size_t>(b)];
@@ -366,11 +281,67 @@ void ScanGridBuilder::sortRings(const Params& /*params*/, ScanGrid& grid)
   //    degenerate frame cannot go quadratic).
   std::vector<std::uint32_t>& perm = column_;  // reuse as scratch
   perm.resize(m);
+  // A strict total order (azimuth, then input index); see below.
+  const auto before = [this](std::uint32_t a, std::uint32_t c) {
+    return paz_[a] < paz_[c] || (paz_[a] == paz_[c] && a < c);
+  };
   for (std::size_t r = 0; r < R; ++r)
   {
     const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
     const std::uint32_t k = e - b;
     if (k < 2) continue;
+    // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
+    // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
+    // the firing sequence. Reversed if mostly decreasing and rotated to start after the wrap,
+    // such a ring is nearly sorted and an insertion sort finishes it in about linear time; a
+    // move budget hands anything else to the bucket sort below, so no frame goes quadratic.
+    // Both sorts order by (azimuth, input index): the counting sort left each ring in ascending
+    // input index, so that is exactly the stable order by azimuth, whatever the starting order.
+    {
+      std::uint32_t* t = tmp_index_.data() + b;
+      // One pass finds the direction and the seam both ways round: a step down by more than pi
+      // read forwards is a step up by more than pi read backwards. (Any choice of seam gives the
+      // same final order; it only decides how much the insertion sort has to move.)
+      std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
+      float drop = -kPi, rise = kPi;
+      for (std::uint32_t j = 1; j < k; ++j)
+      {
+        const float d = paz_[t[j]] - paz_[t[j - 1]];
+        down += d < 0.0f ? 1u : 0u;
+        if (d < drop)
+        {
+          drop = d;
+          wrap_fwd = j;
+        }
+        if (d > rise)
+        {
+          rise = d;
+          wrap_bwd = j;
+        }
+      }
+      std::uint32_t wrap = wrap_fwd;
+      if (down > k / 2)
+      {
+        std::reverse(t, t + k);
+        wrap = wrap_bwd > 0 ? k - wrap_bwd : 0;  // samples j - 1, j move to k - j, k - 1 - j
+      }
+      if (wrap > 0) std::rotate(t, t + wrap, t + k);
+      const std::size_t budget = 8 * static_cast<std::size_t>(k);
+      std::size_t moves = 0;
+      for (std::uint32_t j = 1; j < k && moves < budget; ++j)
+      {
+        const std::uint32_t v = t[j];
+        std::uint32_t q = j;
+        while (q > 0 && before(v, t[q - 1]) && moves < budget)
+        {
+          t[q] = t[q - 1];
+          --q;
+          ++moves;
+        }
+        t[q] = v;
+      }
+      if (moves < budget) continue;
+    }
     std::uint32_t nb = 16;
     while (nb < k) nb <<= 1;
     const float scale = static_cast<float>(nb) / kTwoPi;
@@ -398,7 +369,7 @@ void ScanGridBuilder::sortRings(const Params& /*params*/, ScanGrid& grid)
         {
           const std::uint32_t v = perm[p];
           std::uint32_t q = p;
-          while (q > lo && paz_[perm[q - 1]] > paz_[v])
+          while (q > lo && before(v, perm[q - 1]))
           {
             perm[q] = perm[q - 1];
             --q;
@@ -408,8 +379,7 @@ void ScanGridBuilder::sortRings(const Params& /*params*/, ScanGrid& grid)
       }
       else
       {
-        std::stable_sort(perm.begin() + lo, perm.begin() + hi,
-                         [this](std::uint32_t a, std::uint32_t c) { return paz_[a] < paz_[c]; });
+        std::sort(perm.begin() + lo, perm.begin() + hi, before);
       }
     }
     std::copy(perm.begin() + b, perm.begin() + e, tmp_index_.begin() + b);

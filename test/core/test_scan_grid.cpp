@@ -159,6 +159,52 @@ TEST(ScanGrid, ShuffledInputGivesTheSameLabels)
   EXPECT_EQ(same, perm.size());
 }
 
+TEST(ScanGrid, ReversedAndRotatedFiringOrderGiveTheSameLabels)
+{
+  // Drivers emit rings in firing order: counter-clockwise or clockwise, starting anywhere. The
+  // grid takes a presorted ring as it is (reversed or rotated to the seam when needed) and sorts
+  // the others; every ordering must give the same labels per point.
+  const SensorModel m = SensorModel::uniform(16, -15, 15, 0.2);
+  RayScene s = room();
+  s.ground_z = -1.8;
+  const ScannedFrame f = scan(s, m, 0.005, 3);
+  Pipeline p;
+  FrameResult ref;
+  ASSERT_TRUE(p.process(f.cloud.view(), ref).ok);
+  const std::size_t n = f.cloud.size(), per_ring = n / 16;
+  auto reorder = [&](auto index_of) {  // point i of the new cloud is point index_of(i) of f
+    SyntheticCloud c;
+    c.bytes().resize(f.cloud.bytes().size());
+    std::vector<std::size_t> from(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      from[i] = index_of(i);
+      std::memcpy(c.bytes().data() + i * 22, f.cloud.bytes().data() + from[i] * 22, 22);
+    }
+    FrameResult r;
+    EXPECT_TRUE(p.process(c.view(), r).ok);
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < n; ++i) same += r.label[i] == ref.label[from[i]] ? 1 : 0;
+    return same;
+  };
+  // every ring reversed (a clockwise sensor)
+  EXPECT_EQ(reorder([&](std::size_t i) { return n - 1 - i; }), n);
+  // every ring starting a third of the way round (not at the seam)
+  EXPECT_EQ(reorder([&](std::size_t i) {
+              const std::size_t ring = i / per_ring, k = i % per_ring;
+              return ring * per_ring + (k + per_ring / 3) % per_ring;
+            }),
+            n);
+  // reversed and rotated
+  EXPECT_EQ(reorder([&](std::size_t i) {
+              const std::size_t ring = i / per_ring, k = per_ring - 1 - i % per_ring;
+              return ring * per_ring + (k + 2 * per_ring / 5) % per_ring;
+            }),
+            n);
+  // a few neighbours swapped (not monotonic: the sort's fallback)
+  EXPECT_EQ(reorder([&](std::size_t i) { return i % 97 == 5 ? i + 1 : (i % 97 == 6 ? i - 1 : i); }), n);
+}
+
 TEST(ScanGrid, DualReturnDuplicatesShareTheirRepresentativeLabel)
 {
   const SensorModel m = SensorModel::uniform(4, -5, 5, 0.4);
