@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Prints one summary line per frame the ring_curvature nodelet outputs: points, label counts,
-primitives and latency, then the nodelet's own per-stage times from /diagnostics.
+primitives and processing time, then the nodelet's /diagnostics view.
 
-Latency is measured here, from this process seeing the input cloud to it seeing the labelled
-cloud with the same stamp; it includes two message transports on top of the processing time.
-The nodelet's processing time proper (its steady-clock stage timings) is what /diagnostics
-reports for the last frame it processed.
+Processing time is the nodelet's own measurement from ~frame_stats: callback entry to the last
+publish ("processing"), of which the core's stages ("core"). Latency is measured here, from this
+process seeing the input cloud to it seeing the labelled cloud with the same stamp; it adds two
+message transports to the processing.
 
 Exits 0 once --frames frames were summarised, 1 on timeout.
 """
@@ -19,7 +19,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import PointCloud2
 
-from ring_curvature.msg import PrimitiveArray
+from ring_curvature.msg import FrameStats, PrimitiveArray
 
 LABELS = ("none", "plane", "edge", "corner", "rough")
 
@@ -48,6 +48,7 @@ class Summary:
         self.input_seen = {}   # stamp -> monotonic time the input was seen
         self.labelled = {}     # stamp -> (counts, points, latency ms)
         self.primitives = {}   # stamp -> count
+        self.stats = {}        # stamp -> FrameStats
         self.printed = 0
         self.done = threading.Event()
         self.diag = None
@@ -71,6 +72,11 @@ class Summary:
             self.primitives[msg.header.stamp] = len(msg.primitives)
             self.flush()
 
+    def on_stats(self, msg):
+        with self.lock:
+            self.stats[msg.header.stamp] = msg
+            self.flush()
+
     def on_diag(self, msg):
         for status in msg.status:
             if self.node_name in status.name and any(kv.key == "time total [ms]" for kv in status.values):
@@ -83,13 +89,18 @@ class Summary:
         return next((kv.value for kv in self.diag.values if kv.key == key), None)
 
     def flush(self):
-        for stamp in sorted(set(self.labelled) & set(self.primitives)):
+        for stamp in sorted(set(self.labelled) & set(self.primitives) & set(self.stats)):
             counts, points, latency = self.labelled.pop(stamp)
             prims = self.primitives.pop(stamp)
+            st = self.stats.pop(stamp)
+            core = (st.grid_ms + st.features_ms + st.thresholds_ms + st.classification_ms
+                    + st.primitives_ms + st.core_output_ms)
             self.printed += 1
             label_text = "  ".join("%s %d" % (n, c) for n, c in zip(LABELS, counts))
-            print("frame %d  stamp %.3f  points %d  %s  primitives %d  latency %.1f ms"
-                  % (self.printed, stamp.to_sec(), points, label_text, prims, latency), flush=True)
+            print("frame %d  stamp %.3f  points %d  %s  primitives %d  processing %.2f ms (core %.2f)"
+                  "  latency %.1f ms"
+                  % (self.printed, stamp.to_sec(), points, label_text, prims, st.callback_ms, core, latency),
+                  flush=True)
             if self.printed >= self.want:
                 self.done.set()
 
@@ -110,6 +121,7 @@ def main():
                              buff_size=1 << 24),
             rospy.Subscriber(ns + "/primitives", PrimitiveArray, s.on_primitives, queue_size=10,
                              buff_size=1 << 24),
+            rospy.Subscriber(ns + "/frame_stats", FrameStats, s.on_stats, queue_size=10),
             rospy.Subscriber("/diagnostics", DiagnosticArray, s.on_diag, queue_size=10)]
     ok = s.done.wait(args.timeout)
     # The diagnostic updater publishes every 1-2 s: wait for a status that covers every frame.

@@ -1,5 +1,8 @@
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
 
+#include <boost/make_shared.hpp>
+#include <chrono>
+
 #include <pluginlib/class_list_macros.hpp>
 
 #include <stdexcept>
@@ -56,6 +59,7 @@ void RingCurvatureNodelet::onInit()
   pub_edges_ = pnh.advertise<sensor_msgs::PointCloud2>("edges", 1, cb, cb);
   pub_planes_ = pnh.advertise<sensor_msgs::PointCloud2>("planes", 1, cb, cb);
   pub_markers_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, cb, cb);
+  pub_stats_ = pnh.advertise<FrameStats>("frame_stats", 10, cb, cb);
   NODELET_INFO("ready: subscribes to %s lazily (while an output has subscribers), outputs in %s",
                nh.resolveName("velodyne_points").c_str(), pnh.getNamespace().c_str());
 }
@@ -65,7 +69,7 @@ void RingCurvatureNodelet::connectCb()
   std::lock_guard<std::mutex> lock(connect_mutex_);
   const bool wanted = pub_labelled_.getNumSubscribers() + pub_primitives_.getNumSubscribers() +
                           pub_edges_.getNumSubscribers() + pub_planes_.getNumSubscribers() +
-                          pub_markers_.getNumSubscribers() >
+                          pub_markers_.getNumSubscribers() + pub_stats_.getNumSubscribers() >
                       0;
   if (wanted && !sub_)
   {
@@ -87,6 +91,7 @@ void RingCurvatureNodelet::connectCb()
 void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
 {
   // Nothing may escape a callback: in a manager an exception would take down every nodelet.
+  const auto t_entry = std::chrono::steady_clock::now();
   try
   {
     OutputSelection select;
@@ -134,6 +139,7 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
       return;
     }
     publishOutputs(out);
+    if (pub_stats_.getNumSubscribers() > 0) publishStats(msg->header, t_entry);
   }
   catch (const std::exception& e)
   {
@@ -144,6 +150,29 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
     }
     NODELET_ERROR_THROTTLE(5.0, "frame dropped: %s", e.what());
   }
+}
+
+void RingCurvatureNodelet::publishStats(const std_msgs::Header& header, std::chrono::steady_clock::time_point t_entry)
+{
+  auto st = boost::make_shared<FrameStats>();
+  {
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    const FrameSummary& s = last_summary_;
+    st->header = header;
+    st->points = static_cast<std::uint32_t>(s.points);
+    for (int l = 0; l < kNumLabels; ++l) st->label_counts[static_cast<std::size_t>(l)] = static_cast<std::uint32_t>(s.label_counts[static_cast<std::size_t>(l)]);
+    st->primitives = static_cast<std::uint32_t>(s.primitives);
+    st->grid_ms = static_cast<float>(s.grid_ms);
+    st->features_ms = static_cast<float>(s.features_ms);
+    st->thresholds_ms = static_cast<float>(s.thresholds_ms);
+    st->classification_ms = static_cast<float>(s.classification_ms);
+    st->primitives_ms = static_cast<float>(s.primitives_ms);
+    st->core_output_ms = static_cast<float>(s.core_output_ms);
+    st->messages_ms = static_cast<float>(s.messages_ms);
+  }
+  st->callback_ms = static_cast<float>(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_entry).count());
+  pub_stats_.publish(st);
 }
 
 void RingCurvatureNodelet::publishOutputs(Outputs& out)

@@ -43,6 +43,9 @@ const std::vector<PointCloud2::ConstPtr>& frames()
   return f;
 }
 
+// labelled_points, primitives, edges, planes, markers, frame_stats
+constexpr std::size_t kOutputTopics = 6;
+
 // Keeps every message received on the outputs of one nodelet.
 struct Collector
 {
@@ -71,23 +74,29 @@ struct Collector
           std::lock_guard<std::mutex> l(mutex);
           markers.push_back(m);
         }));
+    subs.push_back(nh.subscribe<ring_curvature::FrameStats>(
+        ns + "/frame_stats", 10, [this](const ring_curvature::FrameStats::ConstPtr& m) {
+          std::lock_guard<std::mutex> l(mutex);
+          stats.push_back(m);
+        }));
   }
   bool complete(std::size_t n)
   {
     std::lock_guard<std::mutex> l(mutex);
     return labelled.size() >= n && primitives.size() >= n && edges.size() >= n && planes.size() >= n &&
-           markers.size() >= n;
+           markers.size() >= n && stats.size() >= n;
   }
   std::size_t total()
   {
     std::lock_guard<std::mutex> l(mutex);
-    return labelled.size() + primitives.size() + edges.size() + planes.size() + markers.size();
+    return labelled.size() + primitives.size() + edges.size() + planes.size() + markers.size() + stats.size();
   }
   std::mutex mutex;
   std::vector<ros::Subscriber> subs;
   std::vector<PointCloud2::ConstPtr> labelled, edges, planes;
   std::vector<ring_curvature::PrimitiveArray::ConstPtr> primitives;
   std::vector<visualization_msgs::MarkerArray::ConstPtr> markers;
+  std::vector<ring_curvature::FrameStats::ConstPtr> stats;
 };
 
 // A manager whose instances the test can reach (the factory keeps a pointer to each).
@@ -153,6 +162,18 @@ TEST(NodeletInProcess, OneOutputPerTopicPerFrameAndZeroCopy)
     checkSubset(*in, *out.labelled[k], *out.planes[k], 1, 1, "planes");
     expectSameHeader(in->header, out.markers[k]->markers.empty() ? in->header : out.markers[k]->markers[0].header,
                      "markers");
+    // the per-frame stats describe this very frame
+    const ring_curvature::FrameStats& fs = *out.stats[k];
+    expectSameHeader(in->header, fs.header, "frame_stats");
+    EXPECT_EQ(in->width * in->height, fs.points);
+    std::uint32_t labelled_total = 0;
+    for (std::uint32_t c : fs.label_counts) labelled_total += c;
+    EXPECT_EQ(fs.points, labelled_total);
+    EXPECT_EQ(out.primitives[k]->primitives.size(), fs.primitives);
+    const float core = fs.grid_ms + fs.features_ms + fs.thresholds_ms + fs.classification_ms + fs.primitives_ms +
+                       fs.core_output_ms;
+    EXPECT_GT(core, 0.0f);
+    EXPECT_GE(fs.callback_ms, core + fs.messages_ms);  // the callback contains every stage
   }
   ros::WallDuration(0.3).sleep();  // nothing extra may trail in
   std::lock_guard<std::mutex> l(out.mutex);
@@ -161,6 +182,7 @@ TEST(NodeletInProcess, OneOutputPerTopicPerFrameAndZeroCopy)
   EXPECT_EQ(frames().size(), out.edges.size());
   EXPECT_EQ(frames().size(), out.planes.size());
   EXPECT_EQ(frames().size(), out.markers.size());
+  EXPECT_EQ(frames().size(), out.stats.size());
 }
 
 TEST(NodeletInProcess, LazyNoSubscriptionWithoutOutputSubscribers)
@@ -253,7 +275,7 @@ TEST(NodeletInProcess, RingTypesReorderedFieldsAndABadFrame)
   ASSERT_TRUE(waitUntil([&] { return rc->stats().frames_rejected == 1; }));
   EXPECT_NE(std::string::npos, rc->stats().last_error.find("ring"));
   ros::WallDuration(0.2).sleep();
-  EXPECT_EQ(expected * 5, out.total());
+  EXPECT_EQ(expected * kOutputTopics, out.total());
 
   pub.publish(copyOf(*frames()[2]));
   ++expected;

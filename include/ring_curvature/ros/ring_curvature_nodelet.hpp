@@ -9,11 +9,13 @@
 #include <ros/ros.h>
 
 #include <array>
+#include <chrono>
 #include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
 
+#include "ring_curvature/FrameStats.h"
 #include "ring_curvature/PrimitiveArray.h"
 #include "ring_curvature/RingCurvatureConfig.h"
 #include "ring_curvature/ros/frame_processor.hpp"
@@ -55,13 +57,14 @@ private:
   void cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg);
   void reconfigureCb(RingCurvatureConfig& config, uint32_t level);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void publishStats(const std_msgs::Header& header, std::chrono::steady_clock::time_point t_entry);
   void publishOutputs(Outputs& out);
 
   // Held across advertise() so connectCb never sees half-made publishers.
   std::mutex connect_mutex_;
   ros::Subscriber sub_;
   std::atomic<bool> subscribed_{false};  // sub_ as seen from other threads (diagnostics)
-  ros::Publisher pub_labelled_, pub_primitives_, pub_edges_, pub_planes_, pub_markers_;
+  ros::Publisher pub_labelled_, pub_primitives_, pub_edges_, pub_planes_, pub_markers_, pub_stats_;
   int queue_size_ = 1;
 
   // Guards processor_ (its parameters change from the reconfigure callback) and stats_.
