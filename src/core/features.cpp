@@ -196,11 +196,11 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   }
   if (!exact)
   {
+    // Two loops: the first (fastAtan2 is branch-free) is vectorized; std::sqrt keeps a branch
+    // to the library for errno on negative input, which would stop that.
     for (std::uint32_t k = 0; k < K; ++k)
-    {
       TURN[k] = std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
-      LEN[k] = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
-    }
+    for (std::uint32_t k = 0; k < K; ++k) LEN[k] = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
   }
   for (std::uint32_t k = 0; k < K; ++k)
   {

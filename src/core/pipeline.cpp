@@ -1,5 +1,6 @@
 #include "ring_curvature/pipeline.hpp"
 
+#include <array>
 #include <chrono>
 #include <limits>
 
@@ -64,29 +65,33 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
   out.primitive.assign(n, -1);
   // Walk the grid in order (sequential reads of five arrays) and write to each point's input
   // index, rather than walking the input and reading the grid at random through grid_pos.
+  // Raw pointers: a label is a byte, and a byte store may alias anything, so through the vectors
+  // the compiler reloaded every data pointer after each label store (perf).
   const std::size_t m = grid_.size();
-  for (std::size_t p = 0; p < m; ++p)
-  {
-    const std::size_t i = grid_.index[p];
-    const auto l = static_cast<std::uint8_t>(labels_[p]);
-    out.label[i] = l;
-    out.curvature[i] = features_.curvature[p];
-    out.smoothness[i] = features_.smoothness[p];
-    out.discontinuity[i] = features_.discontinuity[p];
-    out.primitive[i] = out.primitives.of_grid[p];
-    ++out.label_counts[l];
-  }
-  for (const std::uint32_t i : grid_.duplicates)
-  {
-    const auto p = static_cast<std::size_t>(grid_.grid_pos[i]);
-    const auto l = static_cast<std::uint8_t>(labels_[p]);
-    out.label[i] = l;
-    out.curvature[i] = features_.curvature[p];
-    out.smoothness[i] = features_.smoothness[p];
-    out.discontinuity[i] = features_.discontinuity[p];
-    out.primitive[i] = out.primitives.of_grid[p];
-    ++out.label_counts[l];
-  }
+  const std::uint32_t* const index = grid_.index.data();
+  const Label* const lab = labels_.data();
+  const float* const curv = features_.curvature.data();
+  const float* const smooth = features_.smoothness.data();
+  const float* const disc = features_.discontinuity.data();
+  const std::int32_t* const prim = out.primitives.of_grid.data();
+  std::uint8_t* const out_label = out.label.data();
+  float* const out_curv = out.curvature.data();
+  float* const out_smooth = out.smoothness.data();
+  float* const out_disc = out.discontinuity.data();
+  std::int32_t* const out_prim = out.primitive.data();
+  std::array<std::size_t, kNumLabels> counts{};
+  auto put = [&](std::size_t i, std::size_t p) {
+    const auto l = static_cast<std::uint8_t>(lab[p]);
+    out_label[i] = l;
+    out_curv[i] = curv[p];
+    out_smooth[i] = smooth[p];
+    out_disc[i] = disc[p];
+    out_prim[i] = prim[p];
+    ++counts[l];
+  };
+  for (std::size_t p = 0; p < m; ++p) put(index[p], p);
+  for (const std::uint32_t i : grid_.duplicates) put(i, static_cast<std::size_t>(grid_.grid_pos[i]));
+  for (std::size_t l = 0; l < counts.size(); ++l) out.label_counts[l] += counts[l];
   // everything else (invalid returns, second returns) is None
   out.label_counts[static_cast<std::size_t>(Label::None)] += n - m - grid_.duplicates.size();
   out.times.output = msSince(t);

@@ -61,11 +61,20 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
                 "want[] is indexed by Label");
   auto wanted = [&](Label l) { return want[static_cast<std::size_t>(l)]; };
   const float az_tol = P.proximity_azimuth_factor * g.azimuth_resolution;  // Eq 19
+  // Raw pointers and parameters in locals, read once: through the vectors and P the compiler
+  // reloaded data pointers and parameters inside the loops below (perf annotate), as it may not
+  // prove that the stores to parent_ / fill_ / the primitives leave them unchanged.
+  const double* const range = g.range.data();
+  const float* const azimuth = g.azimuth.data();
+  const Label* const lab = labels.data();
+  const std::uint8_t* const linked = g.linked.data();
+  const double range_ratio = P.proximity_range_ratio;
+  const double range_min = static_cast<double>(P.proximity_range_min);
   auto close = [&](std::uint32_t a, std::uint32_t b, bool check_azimuth) {
-    const double ra = g.range[a], rb = g.range[b];
-    const double rho_tol = std::max(P.proximity_range_ratio * 0.5 * (ra + rb), static_cast<double>(P.proximity_range_min));  // Eq 20
+    const double ra = range[a], rb = range[b];
+    const double rho_tol = std::max(range_ratio * 0.5 * (ra + rb), range_min);  // Eq 20
     if (std::fabs(ra - rb) > rho_tol) return false;
-    return !check_azimuth || angDiff(g.azimuth[a], g.azimuth[b]) <= az_tol;
+    return !check_azimuth || angDiff(azimuth[a], azimuth[b]) <= az_tol;
   };
 
   for (int n = 0; n < g.num_rings; ++n)
@@ -73,11 +82,11 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     const std::uint32_t b = g.ring_begin[static_cast<std::size_t>(n)], e = g.ring_begin[static_cast<std::size_t>(n) + 1];
     for (std::uint32_t p = b; p < e; ++p)
     {
-      const Label l = labels[p];
+      const Label l = lab[p];
       if (!wanted(l)) continue;
       // angular neighbour (n, k+1 mod K)
       const std::uint32_t nx = p + 1 < e ? p + 1 : b;
-      if (nx != p && g.linked[nx] && labels[nx] == l && close(p, nx, true)) unite(p, nx);
+      if (nx != p && linked[nx] && lab[nx] == l && close(p, nx, true)) unite(p, nx);
       // vertical neighbour (n+1, k): the nearest sample in azimuth, or one beside it, within Eq 19
       const std::int32_t u = g.up.empty() ? -1 : g.up[p];
       if (u < 0) continue;
@@ -87,7 +96,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
       for (std::uint32_t q : cand)
       {
         // organized clouds: a column is one firing, beams may have their own azimuth offsets
-        if (labels[q] == l && close(p, q, !g.organized || q != uu))
+        if (lab[q] == l && close(p, q, !g.organized || q != uu))
         {
           unite(p, q);
           break;
@@ -101,14 +110,17 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // look-ups below are then a load instead of a find() each.
   // Component sizes (in the same pass), then ids for the large-enough ones in scan order.
   fill_.assign(m, 0);  // size per root
+  std::uint32_t* const parent = parent_.data();  // raw pointers: see `range` above
+  std::uint32_t* const fill = fill_.data();
+  const std::int32_t* const grid_pos = g.grid_pos.data();
   for (std::size_t p = 0; p < m; ++p)
   {
-    parent_[p] = parent_[parent_[p]];
-    if (wanted(labels[p])) ++fill_[parent_[p]];
+    parent[p] = parent[parent[p]];
+    if (wanted(lab[p])) ++fill[parent[p]];
   }
   // duplicates (same firing, same range) join their representative's primitive
   for (const std::uint32_t i : g.duplicates)
-    if (wanted(labels[static_cast<std::size_t>(g.grid_pos[i])])) ++fill_[parent_[static_cast<std::size_t>(g.grid_pos[i])]];
+    if (wanted(lab[static_cast<std::size_t>(grid_pos[i])])) ++fill[parent[static_cast<std::size_t>(grid_pos[i])]];
   std::uint32_t total = 0;
   // root_to_prim_ is only read at the roots of wanted positions, so only those are written
   root_to_prim_.resize(m);
@@ -131,35 +143,46 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   out.indices.resize(total);
   for (auto& prim : out.primitives) prim.num_points = 0;  // used as the fill cursor below
 
+  PrimitiveInfo* const prims = out.primitives.data();
+  std::uint32_t* const indices = out.indices.data();
+  const std::uint16_t* const ring_of_pos = ring_of_pos_.data();
+  const double* const gx = g.x.data();
+  const double* const gy = g.y.data();
+  const double* const gz = g.z.data();
   auto addPoint = [&](std::int32_t id, std::uint32_t input_index, std::uint32_t pos) {
-    PrimitiveInfo& pr = out.primitives[static_cast<std::size_t>(id)];
-    out.indices[pr.first + pr.num_points++] = input_index;
-    const Eigen::Vector3f v(static_cast<float>(g.x[pos]), static_cast<float>(g.y[pos]), static_cast<float>(g.z[pos]));
+    PrimitiveInfo& pr = prims[static_cast<std::size_t>(id)];
+    indices[pr.first + pr.num_points++] = input_index;
+    const Eigen::Vector3f v(static_cast<float>(gx[pos]), static_cast<float>(gy[pos]), static_cast<float>(gz[pos]));
     if (pr.num_points == 1)
     {
       pr.bbox_min = pr.bbox_max = v;
-      pr.ring_min = pr.ring_max = ring_of_pos_[pos];
+      pr.ring_min = pr.ring_max = ring_of_pos[pos];
     }
     else
     {
       pr.bbox_min = pr.bbox_min.cwiseMin(v);
       pr.bbox_max = pr.bbox_max.cwiseMax(v);
-      pr.ring_min = std::min(pr.ring_min, ring_of_pos_[pos]);
-      pr.ring_max = std::max(pr.ring_max, ring_of_pos_[pos]);
+      pr.ring_min = std::min(pr.ring_min, ring_of_pos[pos]);
+      pr.ring_max = std::max(pr.ring_max, ring_of_pos[pos]);
     }
     pr.centroid += v;  // sum for now
   };
-  for (std::size_t p = 0; p < m; ++p)
   {
-    if (!wanted(labels[p])) continue;
-    const std::int32_t id = root_to_prim_[parent_[p]];
-    out.of_grid[p] = id;
-    if (id >= 0) addPoint(id, g.index[p], static_cast<std::uint32_t>(p));
-  }
-  for (const std::uint32_t i : g.duplicates)
-  {
-    const std::int32_t id = out.of_grid[static_cast<std::size_t>(g.grid_pos[i])];
-    if (id >= 0) addPoint(id, i, static_cast<std::uint32_t>(g.grid_pos[i]));
+    const std::int32_t* const root_to_prim = root_to_prim_.data();
+    std::int32_t* const of_grid_out = out.of_grid.data();
+    const std::uint32_t* const index = g.index.data();
+    for (std::size_t p = 0; p < m; ++p)
+    {
+      if (!wanted(lab[p])) continue;
+      const std::int32_t id = root_to_prim[parent[p]];
+      of_grid_out[p] = id;
+      if (id >= 0) addPoint(id, index[p], static_cast<std::uint32_t>(p));
+    }
+    for (const std::uint32_t i : g.duplicates)
+    {
+      const std::int32_t id = of_grid_out[static_cast<std::size_t>(grid_pos[i])];
+      if (id >= 0) addPoint(id, i, static_cast<std::uint32_t>(grid_pos[i]));
+    }
   }
   for (auto& pr : out.primitives) pr.centroid /= static_cast<float>(pr.num_points);
 
@@ -174,21 +197,37 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     cov_[j].setZero();
     centre_[j] = out.primitives[j].centroid.cast<double>();
   }
+  // Only the lower triangle is summed: the outer product d d^T is symmetric (d_i d_j and d_j d_i
+  // are the same double), so the upper triangle is a copy of it, made once per primitive below
+  // instead of three more multiply-adds per point. The entries are bit for bit those of
+  // `cov += d * d.transpose()`.
+  const std::int32_t* const of_grid = out.of_grid.data();
+  Eigen::Matrix3d* const cov_data = cov_.data();
+  const Eigen::Vector3d* const centre_data = centre_.data();
   auto addMoment = [&](std::int32_t id, std::size_t pos) {
-    const Eigen::Vector3d& c = centre_[static_cast<std::size_t>(id)];
-    const Eigen::Vector3d d(g.x[pos] - c.x(), g.y[pos] - c.y(), g.z[pos] - c.z());
-    cov_[static_cast<std::size_t>(id)].noalias() += d * d.transpose();
+    const Eigen::Vector3d& c = centre_data[static_cast<std::size_t>(id)];
+    const double dx = gx[pos] - c.x(), dy = gy[pos] - c.y(), dz = gz[pos] - c.z();
+    Eigen::Matrix3d& M = cov_data[static_cast<std::size_t>(id)];
+    M(0, 0) += dx * dx;
+    M(1, 0) += dy * dx;
+    M(2, 0) += dz * dx;
+    M(1, 1) += dy * dy;
+    M(2, 1) += dz * dy;
+    M(2, 2) += dz * dz;
   };
   for (std::size_t p = 0; p < m; ++p)
-    if (out.of_grid[p] >= 0) addMoment(out.of_grid[p], p);
+    if (of_grid[p] >= 0) addMoment(of_grid[p], p);
   for (const std::uint32_t i : g.duplicates)
   {
     const auto pos = static_cast<std::size_t>(g.grid_pos[i]);
-    if (out.of_grid[pos] >= 0) addMoment(out.of_grid[pos], pos);
+    if (of_grid[pos] >= 0) addMoment(of_grid[pos], pos);
   }
   for (auto& pr : out.primitives)
   {
     Eigen::Matrix3d& cov = cov_[pr.id];
+    cov(0, 1) = cov(1, 0);
+    cov(0, 2) = cov(2, 0);
+    cov(1, 2) = cov(2, 1);
     const Eigen::Vector3d& c = centre_[pr.id];
     cov /= static_cast<double>(pr.num_points);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
