@@ -186,6 +186,33 @@ TEST(ScanGrid, AnyInputOrderGivesTheSameLabels)
   EXPECT_EQ(reorder([&](std::size_t i) { return perm[i]; }), n);
 }
 
+TEST(ScanGrid, RingsFromElevationMatchTheRingField)
+{
+  // A cloud without `ring` (opt-in ring_from_elevation): beams are found by clustering elevation
+  // angles, numbered from the lowest up like velodyne_pointcloud, so the result must equal the
+  // one computed with the driver's ring field.
+  const SensorModel m = SensorModel::uniform(16, -15, 15, 0.2);
+  RayScene s = room();
+  s.ground_z = -1.8;
+  const ScannedFrame f = scan(s, m, 0.005, 3);
+  Pipeline with_field;
+  FrameResult ref;
+  ASSERT_TRUE(with_field.process(f.cloud.view(), ref).ok);
+
+  PointCloudView v = f.cloud.view();
+  v.ring = {};
+  Pipeline refuses;
+  FrameResult r;
+  EXPECT_FALSE(refuses.process(v, r).ok);  // not without opting in
+  Params opt_in;
+  opt_in.ring_from_elevation = true;
+  Pipeline derived(opt_in);
+  ASSERT_TRUE(derived.process(v, r).ok);
+  EXPECT_EQ(derived.grid().num_rings, 16);
+  EXPECT_EQ(r.label, ref.label);
+  EXPECT_EQ(r.primitive, ref.primitive);
+}
+
 TEST(ScanGrid, DualReturnDuplicatesShareTheirRepresentativeLabel)
 {
   const SensorModel m = SensorModel::uniform(4, -5, 5, 0.4);
