@@ -1,5 +1,7 @@
 // Primitives of one frame as rviz markers (see markers.hpp for the shapes and the palette).
+
 #include "ring_curvature/ros/markers.hpp"
+#include "ring_curvature/ros/geometry_conversions.hpp"
 
 #include <Eigen/Geometry>
 #include <boost/make_shared.hpp>
@@ -32,14 +34,6 @@ std_msgs::ColorRGBA colourOf(Label label, float alpha)
   return out;
 }
 
-geometry_msgs::Point toPoint(const Eigen::Vector3f& v)
-{
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
 
 /// The finite points of one primitive, read in place from the view. Empty when any index is out
 /// of range (a primitive set that does not belong to this cloud: draw nothing rather than garbage).

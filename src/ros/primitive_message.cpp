@@ -1,5 +1,7 @@
 #include "ring_curvature/ros/primitive_message.hpp"
 
+#include "ring_curvature/ros/geometry_conversions.hpp"
+
 #include <boost/make_shared.hpp>
 
 #include "ring_curvature/PrimitiveArray.h"
@@ -7,17 +9,6 @@
 namespace ring_curvature
 {
 
-namespace
-{
-geometry_msgs::Point toPoint(const Eigen::Vector3f& v)
-{
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
-}  // namespace
 
 PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const PrimitiveSet& set)
 {
