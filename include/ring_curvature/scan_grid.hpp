@@ -70,6 +70,7 @@ private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void sortRings(const Params& params, ScanGrid& grid);
+  void sortRing(std::uint64_t* keys, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);
   void removeDuplicates(const Params& params, ScanGrid& grid);
@@ -82,7 +83,9 @@ private:
   std::vector<float> paz_;
   // scratch, per ring / bin
   std::vector<std::uint32_t> counts_, bin_start_;
-  std::vector<std::uint32_t> tmp_index_;
+  std::vector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
+  std::vector<float> sorted_az_;          // and its azimuth
+  std::vector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
   std::vector<float> tmp_f_;
   std::vector<double> elev_sum_;
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position

@@ -23,19 +23,24 @@ double wrapPiD(double a)
 
 // sin / cos of the small angles between ring neighbours (|a| < 0.2 rad almost always): a
 // Taylor polynomial is exact to ~1e-12 there and far cheaper than the libm calls.
-inline void smallSinCos(double a, double& s, double& c)
+constexpr double kSmallAngle = 0.2;
+inline void polySinCos(double a, double& s, double& c)
 {
-  if (std::fabs(a) > 0.2)
-  {
-    s = std::sin(a);
-    c = std::cos(a);
-    return;
-  }
   // Reciprocal constants: without -ffast-math a "/ 6.0" stays a division, and these six were
   // the largest cost of the feature stage (perf); the result differs by an ulp at most.
   const double a2 = a * a;
   s = a * (1.0 - a2 * (1.0 / 6.0) * (1.0 - a2 * (1.0 / 20.0) * (1.0 - a2 * (1.0 / 42.0))));
   c = 1.0 - a2 * 0.5 * (1.0 - a2 * (1.0 / 12.0) * (1.0 - a2 * (1.0 / 30.0)));
+}
+inline void smallSinCos(double a, double& s, double& c)
+{
+  if (std::fabs(a) > kSmallAngle)
+  {
+    s = std::sin(a);
+    c = std::cos(a);
+    return;
+  }
+  polySinCos(a, s, c);
 }
 
 // Per-ring view with circular neighbour access limited to the current run.
@@ -64,11 +69,13 @@ struct RingCtx
 
 void FeatureComputer::compute(const ScanGrid& grid, const Params& params, Features& out)
 {
+  // No NaN fill of the whole arrays first: computeRing writes every position of its ring (four
+  // passes over the frame saved).
   const std::size_t m = grid.size();
-  out.curvature.assign(m, kNaN);
-  out.turning.assign(m, kNaN);
-  out.smoothness.assign(m, kNaN);
-  out.discontinuity.assign(m, kNaN);
+  out.curvature.resize(m);
+  out.turning.resize(m);
+  out.smoothness.resize(m);
+  out.discontinuity.resize(m);
   for (int n = 0; n < grid.num_rings; ++n) computeRing(grid, params, n, out);
 }
 
@@ -76,7 +83,12 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
 {
   const std::uint32_t b = g.ring_begin[static_cast<std::size_t>(n)];
   const std::uint32_t K = g.ring_begin[static_cast<std::size_t>(n) + 1] - b;
-  if (K < 2) return;
+  if (K < 2)
+  {
+    for (auto* v : {&out.curvature, &out.turning, &out.smoothness, &out.discontinuity})
+      std::fill(v->begin() + b, v->begin() + b + K, kNaN);
+    return;
+  }
   const bool closed = g.ring_closed[static_cast<std::size_t>(n)] != 0;
   const double c = P.curvature_mode == CurvatureMode::Paper ? 1.0 : g.ring_cos[static_cast<std::size_t>(n)];
   const double cone_cos = g.ring_cos[static_cast<std::size_t>(n)];
@@ -113,6 +125,28 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
         run = (k + 1 < K || closed) && linkOk(next) ? std::min(run + 1, cap) : 0;
       if (t >= (passes - 1) * K) Rr[k] = run;
     }
+  }
+
+  // The ring's ranges and azimuths with `cap` samples of padding on each side: the neighbours
+  // of a closed ring across the seam, copies of the end samples for an open one (never used:
+  // the run lengths keep every reach inside the ring). Neighbour k + j is then rp[k + j], with
+  // no wrap-around arithmetic per access.
+  rho_pad_.resize(K + 2 * static_cast<std::size_t>(cap));
+  az_pad_.resize(K + 2 * static_cast<std::size_t>(cap));
+  double* const rp = rho_pad_.data() + cap;
+  float* const azp = az_pad_.data() + cap;
+  std::copy(rho, rho + K, rp);
+  std::copy(g.azimuth.begin() + b, g.azimuth.begin() + b + K, azp);
+  const auto padFrom = [&](std::int64_t k) {
+    return closed ? R.pos(k) : b + static_cast<std::uint32_t>(std::clamp<std::int64_t>(k, 0, K - 1));
+  };
+  for (std::int64_t j = 1; j <= cap; ++j)
+  {
+    const std::int64_t lo = -j, hi = static_cast<std::int64_t>(K) - 1 + j;
+    rp[lo] = g.range[padFrom(lo)];
+    azp[lo] = g.azimuth[padFrom(lo)];
+    rp[hi] = g.range[padFrom(hi)];
+    azp[hi] = g.azimuth[padFrom(hi)];
   }
 
   // Local development of a neighbour j around vertex k: coordinates of w_j with w_k = (rho_k, 0).
@@ -152,33 +186,70 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
     {
       // Samples needed for a chord of `chord` metres at this range (spacing ~ rho cos(phi) dtheta).
       const double spacing = rho[k] * cone_cos * res;
-      H[k] = std::clamp(static_cast<int>(std::ceil(chord / (spacing > 1e-6 ? spacing : 1e-6))  /* NaN-safe */), 1, P.max_chord_samples);
+      // ceil by truncation (exact: q lies in (0, 2.5e5]), which the compiler vectorizes, where
+      // SSE2 has no rounding instruction and std::ceil stayed a call per sample.
+      const double q = chord / (spacing > 1e-6 ? spacing : 1e-6);  // NaN-safe
+      const int t = static_cast<int>(q);
+      H[k] = std::clamp(t + (static_cast<double>(t) < q ? 1 : 0), 1, P.max_chord_samples);
     }
   }
-  for (std::uint32_t k = 0; k < K; ++k)
+  if (!exact)
   {
-    const std::uint32_t pk = b + k;
-    if (L[k] == 0 || Rr[k] == 0)  // turning angle needs a neighbour on each side
+    // Chord mode: the developed chords to k - hl and k + hr, read from the padded copies. Where
+    // the vertex lacks a neighbour on a side (L or R is 0) the reach is 0 and the chord
+    // degenerates to the vertex itself: harmless values that are never stored. The sine and
+    // cosine come from the polynomial alone, without the branch to libm for angles above 0.2 rad
+    // (which stopped the compiler from keeping this loop straight); such angles only arise from
+    // odd data, and if any did, the ring is recomputed with the branch below.
+    bool large = false;
+    auto chords = [&](std::uint32_t k, bool exact_trig) {
+      const int hl = std::min(H[k], L[k]), hr = std::min(H[k], Rr[k]);
+      const double ap = c * wrapPiD(static_cast<double>(azp[static_cast<std::int64_t>(k) - hl]) - azp[k]);
+      const double an = c * wrapPiD(static_cast<double>(azp[k + static_cast<std::uint32_t>(hr)]) - azp[k]);
+      double sp, cp, sn, cn;
+      if (exact_trig)
+      {
+        smallSinCos(ap, sp, cp);
+        smallSinCos(an, sn, cn);
+      }
+      else
+      {
+        large |= std::fabs(ap) > kSmallAngle || std::fabs(an) > kSmallAngle;
+        polySinCos(ap, sp, cp);
+        polySinCos(an, sn, cn);
+      }
+      const double rpp = rp[static_cast<std::int64_t>(k) - hl], rpn = rp[k + static_cast<std::uint32_t>(hr)];
+      const double vx = rho[k] - rpp * cp, vy = -(rpp * sp);  // incoming chord
+      const double ux = rpn * cn - rho[k], uy = rpn * sn;     // outgoing chord
+      CROSS[k] = vx * uy - vy * ux;
+      DOT[k] = vx * ux + vy * uy;
+      V2[k] = vx * vx + vy * vy;
+      U2[k] = ux * ux + uy * uy;
+    };
+    for (std::uint32_t k = 0; k < K; ++k) chords(k, false);
+    if (large)
+      for (std::uint32_t k = 0; k < K; ++k) chords(k, true);
+    // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
+    for (std::uint32_t k = 0; k < K; ++k)
     {
-      CROSS[k] = DOT[k] = V2[k] = U2[k] = 0.0;  // benign input for the loop below; not stored
-      continue;
+      TURN[k] = std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
+      LEN[k] = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
     }
-    int hl = 1, hr = 1;
-    if (P.curvature_mode == CurvatureMode::Chord)
+  }
+  else
+  {
+    for (std::uint32_t k = 0; k < K; ++k)
     {
-      hl = std::min(H[k], L[k]);
-      hr = std::min(H[k], Rr[k]);
-    }
-    const std::uint32_t pp = R.pos(static_cast<std::int64_t>(k) - hl);
-    const std::uint32_t pn = R.pos(static_cast<std::int64_t>(k) + hr);
-    double ax, ay, cx, cy;
-    develop(pk, pp, ax, ay);
-    develop(pk, pn, cx, cy);
-    const double vx = rho[k] - ax, vy = -ay;  // incoming chord
-    const double ux = cx - rho[k], uy = cy;   // outgoing chord
-    const double cross = vx * uy - vy * ux, dot = vx * ux + vy * uy;
-    if (exact)
-    {
+      if (L[k] == 0 || Rr[k] == 0) continue;  // turning angle needs a neighbour on each side
+      const std::uint32_t pk = b + k;
+      const std::uint32_t pp = R.pos(static_cast<std::int64_t>(k) - 1);
+      const std::uint32_t pn = R.pos(static_cast<std::int64_t>(k) + 1);
+      double ax, ay, cx, cy;
+      develop(pk, pp, ax, ay);
+      develop(pk, pn, cx, cy);
+      const double vx = rho[k] - ax, vy = -ay;  // incoming chord
+      const double ux = cx - rho[k], uy = cy;   // outgoing chord
+      const double cross = vx * uy - vy * ux, dot = vx * ux + vy * uy;
       TURN[k] = std::fabs(std::atan2(cross, dot));
       // Eq 6: cone-metric arc length of the incoming step (midpoint rule); Eq 9 divides by it.
       const double dr = rho[k] - g.range[pp];
@@ -186,27 +257,12 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
       const double dth = relAngle(pp, pk);
       LEN[k] = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
     }
-    else
-    {
-      CROSS[k] = cross;
-      DOT[k] = dot;
-      V2[k] = vx * vx + vy * vy;
-      U2[k] = ux * ux + uy * uy;
-    }
-  }
-  if (!exact)
-  {
-    // Two loops: the first (fastAtan2 is branch-free) is vectorized; std::sqrt keeps a branch
-    // to the library for errno on negative input, which would stop that.
-    for (std::uint32_t k = 0; k < K; ++k)
-      TURN[k] = std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
-    for (std::uint32_t k = 0; k < K; ++k) LEN[k] = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
   }
   for (std::uint32_t k = 0; k < K; ++k)
   {
-    if (L[k] == 0 || Rr[k] == 0) continue;
-    out.turning[b + k] = static_cast<float>(TURN[k]);
-    out.curvature[b + k] = LEN[k] > 0 ? static_cast<float>(TURN[k] / LEN[k]) : kNaN;
+    const bool defined = L[k] != 0 && Rr[k] != 0;
+    out.turning[b + k] = defined ? static_cast<float>(TURN[k]) : kNaN;
+    out.curvature[b + k] = defined && LEN[k] > 0 ? static_cast<float>(TURN[k] / LEN[k]) : kNaN;
   }
 
   // Discontinuity.
@@ -214,7 +270,11 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   {
     for (std::uint32_t k = 0; k < K; ++k)
     {
-      if (L[k] == 0) continue;
+      if (L[k] == 0)
+      {
+        out.discontinuity[b + k] = kNaN;
+        continue;
+      }
       const std::uint32_t pk = b + k, pp = R.pos(static_cast<std::int64_t>(k) - 1);
       const double dr = rho[k] - g.range[pp];
       const double rbar = 0.5 * (rho[k] + g.range[pp]);
@@ -228,19 +288,13 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
     // Link (k-1, k): how badly each side's linear extrapolation predicts the other side's range,
     // the smaller of the two, relative to range. A grazing plane is predicted well from both
     // sides; a depth jump from neither. A point takes the larger of its two links.
+    // Branch-free on the padded ranges: both predictions are formed and the run lengths choose.
     auto linkJump = [&](std::uint32_t k) -> float {  // link between k-1 and k; requires L[k] >= 1
-      const double r1 = rho[k], r0 = g.range[R.pos(static_cast<std::int64_t>(k) - 1)];
-      double e_left = std::fabs(r1 - r0), e_right = e_left;
-      if (L[k] >= 2)
-      {
-        const double rm = g.range[R.pos(static_cast<std::int64_t>(k) - 2)];
-        e_left = std::fabs(r1 - (2.0 * r0 - rm));
-      }
-      if (Rr[k] >= 1)
-      {
-        const double r2 = g.range[R.pos(static_cast<std::int64_t>(k) + 1)];
-        e_right = std::fabs(r0 - (2.0 * r1 - r2));
-      }
+      const auto kk = static_cast<std::int64_t>(k);
+      const double r1 = rp[kk], r0 = rp[kk - 1], rm = rp[kk - 2], r2 = rp[kk + 1];
+      const double e_flat = std::fabs(r1 - r0);
+      const double e_left = L[k] >= 2 ? std::fabs(r1 - (2.0 * r0 - rm)) : e_flat;
+      const double e_right = Rr[k] >= 1 ? std::fabs(r0 - (2.0 * r1 - r2)) : e_flat;
       return static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
     };
     // Each link once (a point shares its links with its neighbours): jump[k] is link (k-1, k),
@@ -272,9 +326,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   S0[0] = S1[0] = S2[0] = 0.0;
   for (std::size_t e = 0; e < E; ++e)
   {
-    // the ring itself is read directly; only the seam extensions need the wrap-around
-    const std::size_t k = e - static_cast<std::size_t>(ext);
-    const double r = k < K ? rho[k] : g.range[R.pos(static_cast<std::int64_t>(e) - ext)];
+    const double r = rp[static_cast<std::int64_t>(e) - ext];  // the seam extensions are in the padding
     S0[e + 1] = S0[e] + r;
     S1[e + 1] = S1[e] + static_cast<double>(e) * r;
     S2[e + 1] = S2[e] + r * r;

@@ -34,6 +34,22 @@ inline double readCoord(const std::uint8_t* rec, const FieldView& f)
   std::memcpy(&d, rec + f.offset, sizeof d);
   return d;
 }
+
+// The azimuth's float bits mapped to an unsigned key of the same order (a -0 azimuth is made +0
+// first, so equal floats give equal keys), with the input index below: one 64-bit comparison is
+// the order (azimuth, input index) exactly.
+inline std::uint64_t sortKey(float azimuth, std::uint32_t i)
+{
+  const std::uint32_t u = detail::floatBits(azimuth + 0.0f);
+  const std::uint32_t k = u ^ ((0u - (u >> 31)) | 0x80000000u);
+  return (static_cast<std::uint64_t>(k) << 32) | i;
+}
+inline float keyAzimuth(std::uint64_t key)
+{
+  const auto k = static_cast<std::uint32_t>(key >> 32);
+  return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
+}
+inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
 }  // namespace
 
 int ScanGrid::ringOf(std::uint32_t pos) const
@@ -87,38 +103,50 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   grid.z.resize(m);
   grid.range.resize(m);
   grid.azimuth.resize(m);
+  std::copy(sorted_az_.begin(), sorted_az_.end(), grid.azimuth.begin());
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  const std::size_t W = view.width;
-  std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
-  for (std::size_t p = 0; p < m; ++p)
+  if (fast && view.height == 1)
   {
-    const std::uint32_t i = tmp_index_[p];
-    const std::uint8_t* rec;
-    if (view.height == 1)
+    // the common case (velodyne, unorganized): one multiply per record address, no branches
+    const std::uint8_t* const px = view.data + view.x.offset;
+    const std::uint8_t* const py = view.data + view.y.offset;
+    const std::uint8_t* const pz = view.data + view.z.offset;
+    const std::size_t step = view.point_step;
+    for (std::size_t p = 0; p < m; ++p)
     {
-      rec = view.data + static_cast<std::size_t>(i) * view.point_step;
+      const std::uint32_t i = tmp_index_[p];
+      const std::size_t off = static_cast<std::size_t>(i) * step;
+      grid.x[p] = readFloat32(px + off);
+      grid.y[p] = readFloat32(py + off);
+      grid.z[p] = readFloat32(pz + off);
+      grid.range[p] = prange_[i];
+      grid.grid_pos[i] = static_cast<std::int32_t>(p);
     }
-    else
+  }
+  else
+  {
+    const std::size_t W = view.width;
+    std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
+    for (std::size_t p = 0; p < m; ++p)
     {
-      while (i >= (row + 1) * W) ++row;
-      rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
-    }
-    if (fast)
-    {
-      grid.x[p] = readFloat32(rec + view.x.offset);
-      grid.y[p] = readFloat32(rec + view.y.offset);
-      grid.z[p] = readFloat32(rec + view.z.offset);
-    }
-    else
-    {
+      const std::uint32_t i = tmp_index_[p];
+      const std::uint8_t* rec;
+      if (view.height == 1)
+      {
+        rec = view.data + static_cast<std::size_t>(i) * view.point_step;
+      }
+      else
+      {
+        while (i >= (row + 1) * W) ++row;
+        rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
+      }
       grid.x[p] = readCoord(rec, view.x);
       grid.y[p] = readCoord(rec, view.y);
       grid.z[p] = readCoord(rec, view.z);
+      grid.range[p] = prange_[i];
+      grid.grid_pos[i] = static_cast<std::int32_t>(p);
     }
-    grid.range[p] = prange_[i];
-    grid.azimuth[p] = paz_[i];
-    grid.grid_pos[i] = static_cast<std::int32_t>(p);
   }
   grid.num_valid = m;
   // Duplicates and second returns point at their representative (stored as an input index).
@@ -274,126 +302,130 @@ void ScanGridBuilder::sortRings(const Params& /*params*/, ScanGrid& grid)
 {
   const std::size_t n = grid.num_input;
   const std::size_t R = static_cast<std::size_t>(grid.num_rings);
-  // 1) counting sort by ring (stable: keeps firing order)
+  // 1) counting sort by ring (stable: keeps firing order), carrying each point's sort key, so
+  //    that everything after works on the ring's keys in place rather than reading each point's
+  //    azimuth through its input index (a scattered read per comparison).
   counts_.assign(R + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
     if (ring_of_[i] >= 0) ++counts_[static_cast<std::size_t>(ring_of_[i]) + 1];
   for (std::size_t r = 0; r < R; ++r) counts_[r + 1] += counts_[r];
   grid.ring_begin.assign(counts_.begin(), counts_.end());
   const std::size_t m = counts_[R];
-  tmp_index_.resize(m);
+  keys_.resize(m);
   bin_start_.assign(counts_.begin(), counts_.end());
   for (std::size_t i = 0; i < n; ++i)
-    if (ring_of_[i] >= 0) tmp_index_[bin_start_[static_cast<std::size_t>(ring_of_[i])]++] = static_cast<std::uint32_t>(i);
+    if (ring_of_[i] >= 0)
+      keys_[bin_start_[static_cast<std::size_t>(ring_of_[i])]++] = sortKey(paz_[i], static_cast<std::uint32_t>(i));
 
-  // 2) per ring, bucket sort by azimuth with about one bucket per point, then fix the order
-  //    inside each bucket (insertion sort for small buckets, std::sort for crowded ones, so a
-  //    degenerate frame cannot go quadratic).
-  std::vector<std::uint32_t>& perm = column_;  // reuse as scratch
-  perm.resize(m);
-  // A strict total order (azimuth, then input index); see below.
-  const auto before = [this](std::uint32_t a, std::uint32_t c) {
-    return paz_[a] < paz_[c] || (paz_[a] == paz_[c] && a < c);
-  };
+  // 2) per ring, order the keys: (azimuth, input index), a strict total order, so the result
+  //    does not depend on the order the points came in or on which sort finishes the ring.
   for (std::size_t r = 0; r < R; ++r)
   {
     const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
-    const std::uint32_t k = e - b;
-    if (k < 2) continue;
-    // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
-    // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
-    // the firing sequence. Reversed if mostly decreasing and rotated to start after the wrap,
-    // such a ring is nearly sorted and an insertion sort finishes it in about linear time; a
-    // move budget hands anything else to the bucket sort below, so no frame goes quadratic.
-    // Both sorts order by (azimuth, input index): the counting sort left each ring in ascending
-    // input index, so that is exactly the stable order by azimuth, whatever the starting order.
-    {
-      std::uint32_t* t = tmp_index_.data() + b;
-      // One pass finds the direction and the seam both ways round: a step down by more than pi
-      // read forwards is a step up by more than pi read backwards. (Any choice of seam gives the
-      // same final order; it only decides how much the insertion sort has to move.)
-      std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
-      float drop = -kPi, rise = kPi;
-      for (std::uint32_t j = 1; j < k; ++j)
-      {
-        const float d = paz_[t[j]] - paz_[t[j - 1]];
-        down += d < 0.0f ? 1u : 0u;
-        if (d < drop)
-        {
-          drop = d;
-          wrap_fwd = j;
-        }
-        if (d > rise)
-        {
-          rise = d;
-          wrap_bwd = j;
-        }
-      }
-      std::uint32_t wrap = wrap_fwd;
-      if (down > k / 2)
-      {
-        std::reverse(t, t + k);
-        wrap = wrap_bwd > 0 ? k - wrap_bwd : 0;  // samples j - 1, j move to k - j, k - 1 - j
-      }
-      if (wrap > 0) std::rotate(t, t + wrap, t + k);
-      const std::size_t budget = 8 * static_cast<std::size_t>(k);
-      std::size_t moves = 0;
-      for (std::uint32_t j = 1; j < k && moves < budget; ++j)
-      {
-        const std::uint32_t v = t[j];
-        std::uint32_t q = j;
-        while (q > 0 && before(v, t[q - 1]) && moves < budget)
-        {
-          t[q] = t[q - 1];
-          --q;
-          ++moves;
-        }
-        t[q] = v;
-      }
-      if (moves < budget) continue;
-    }
-    std::uint32_t nb = 16;
-    while (nb < k) nb <<= 1;
-    const float scale = static_cast<float>(nb) / kTwoPi;
-    counts_.assign(nb + 1, 0);
-    for (std::uint32_t p = b; p < e; ++p)
-    {
-      const auto bin = std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((paz_[tmp_index_[p]] + kPi) * scale));
-      ++counts_[bin + 1];
-    }
-    for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
-    bin_start_.assign(counts_.begin(), counts_.end() - 1);
-    for (std::uint32_t p = b; p < e; ++p)
-    {
-      const std::uint32_t i = tmp_index_[p];
-      const auto bin = std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((paz_[i] + kPi) * scale));
-      perm[b + bin_start_[bin]++] = i;
-    }
-    for (std::uint32_t j = 0; j < nb; ++j)
-    {
-      const std::uint32_t lo = b + counts_[j], hi = b + counts_[j + 1];
-      if (hi - lo < 2) continue;
-      if (hi - lo <= 16)
-      {
-        for (std::uint32_t p = lo + 1; p < hi; ++p)
-        {
-          const std::uint32_t v = perm[p];
-          std::uint32_t q = p;
-          while (q > lo && before(v, perm[q - 1]))
-          {
-            perm[q] = perm[q - 1];
-            --q;
-          }
-          perm[q] = v;
-        }
-      }
-      else
-      {
-        std::sort(perm.begin() + lo, perm.begin() + hi, before);
-      }
-    }
-    std::copy(perm.begin() + b, perm.begin() + e, tmp_index_.begin() + b);
+    if (e - b >= 2) sortRing(keys_.data() + b, e - b);
   }
+  tmp_index_.resize(m);
+  sorted_az_.resize(m);
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    tmp_index_[p] = keyIndex(keys_[p]);
+    sorted_az_[p] = keyAzimuth(keys_[p]);
+  }
+}
+
+void ScanGridBuilder::sortRing(std::uint64_t* t, std::uint32_t k)
+{
+  // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
+  // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
+  // the firing sequence. Reversed if mostly decreasing and rotated to start after the wrap,
+  // such a ring is nearly sorted and an insertion sort finishes it in about linear time; a
+  // move budget hands anything else to the bucket sort below, so no frame goes quadratic.
+  {
+    // One pass finds the direction and the seam both ways round: a step down by more than pi
+    // read forwards is a step up by more than pi read backwards. (Any choice of seam gives the
+    // same final order; it only decides how much the insertion sort has to move.)
+    std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
+    float drop = -kPi, rise = kPi;
+    float prev = keyAzimuth(t[0]);
+    for (std::uint32_t j = 1; j < k; ++j)
+    {
+      const float az = keyAzimuth(t[j]);
+      const float d = az - prev;
+      prev = az;
+      down += d < 0.0f ? 1u : 0u;
+      if (d < drop)
+      {
+        drop = d;
+        wrap_fwd = j;
+      }
+      if (d > rise)
+      {
+        rise = d;
+        wrap_bwd = j;
+      }
+    }
+    std::uint32_t wrap = wrap_fwd;
+    if (down > k / 2)
+    {
+      std::reverse(t, t + k);
+      wrap = wrap_bwd > 0 ? k - wrap_bwd : 0;  // samples j - 1, j move to k - j, k - 1 - j
+    }
+    if (wrap > 0) std::rotate(t, t + wrap, t + k);
+    const std::size_t budget = 8 * static_cast<std::size_t>(k);
+    std::size_t moves = 0;
+    for (std::uint32_t j = 1; j < k && moves < budget; ++j)
+    {
+      const std::uint64_t v = t[j];
+      std::uint32_t q = j;
+      while (q > 0 && v < t[q - 1] && moves < budget)
+      {
+        t[q] = t[q - 1];
+        --q;
+        ++moves;
+      }
+      t[q] = v;
+    }
+    if (moves < budget) return;
+  }
+  // Bucket sort by azimuth with about one bucket per point, then the order inside each bucket
+  // (insertion sort for small buckets, std::sort for crowded ones: no quadratic case).
+  std::uint32_t nb = 16;
+  while (nb < k) nb <<= 1;
+  const float scale = static_cast<float>(nb) / kTwoPi;
+  auto binOf = [&](std::uint64_t key) {
+    return std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((keyAzimuth(key) + kPi) * scale));
+  };
+  counts_.assign(nb + 1, 0);
+  for (std::uint32_t j = 0; j < k; ++j) ++counts_[binOf(t[j]) + 1];
+  for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
+  bin_start_.assign(counts_.begin(), counts_.end() - 1);
+  keys_tmp_.resize(k);
+  std::uint64_t* const perm = keys_tmp_.data();
+  for (std::uint32_t j = 0; j < k; ++j) perm[bin_start_[binOf(t[j])]++] = t[j];
+  for (std::uint32_t j = 0; j < nb; ++j)
+  {
+    const std::uint32_t lo = counts_[j], hi = counts_[j + 1];
+    if (hi - lo < 2) continue;
+    if (hi - lo <= 16)
+    {
+      for (std::uint32_t p = lo + 1; p < hi; ++p)
+      {
+        const std::uint64_t v = perm[p];
+        std::uint32_t q = p;
+        while (q > lo && v < perm[q - 1])
+        {
+          perm[q] = perm[q - 1];
+          --q;
+        }
+        perm[q] = v;
+      }
+    }
+    else
+    {
+      std::sort(perm + lo, perm + hi);
+    }
+  }
+  std::copy(perm, perm + k, t);
 }
 
 void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
@@ -402,6 +434,7 @@ void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
   const std::size_t R = view.height, W = view.width;
   grid.ring_begin.assign(R + 1, 0);
   tmp_index_.clear();
+  sorted_az_.clear();
   column_.clear();
   for (std::size_t r = 0; r < R; ++r)
   {
@@ -410,6 +443,7 @@ void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
       const std::size_t i = r * W + c;
       if (ring_of_[i] < 0) continue;
       tmp_index_.push_back(static_cast<std::uint32_t>(i));
+      sorted_az_.push_back(paz_[i]);
       column_.push_back(static_cast<std::uint32_t>(c));
     }
     grid.ring_begin[r + 1] = static_cast<std::uint32_t>(tmp_index_.size());
@@ -434,7 +468,7 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     largest = std::max(largest, e - b);
     for (std::uint32_t p = b + 1; p < e; ++p)
     {
-      float d = std::fabs(wrapPi(paz_[tmp_index_[p]] - paz_[tmp_index_[p - 1]]));
+      float d = std::fabs(wrapPi(sorted_az_[p] - sorted_az_[p - 1]));
       if (grid.organized)
       {
         const std::uint32_t dc = column_[p] - column_[p - 1];
@@ -469,10 +503,12 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     grid.ring_begin[static_cast<std::size_t>(n)] = new_begin;
     std::int64_t rep = -1;  // input index of the current representative
+    float rep_az = 0.0f;
     for (std::uint32_t p = b; p < e; ++p)
     {
       const std::uint32_t i = tmp_index_[p];
-      if (rep >= 0 && paz_[i] - paz_[static_cast<std::size_t>(rep)] < same_firing)
+      const float az = sorted_az_[p];
+      if (rep >= 0 && az - rep_az < same_firing)
       {
         // The first return of a firing stays on the grid (deterministic; both returns of a
         // dual-return firing lie on the same ray, so either continues the ring's curve).
@@ -483,13 +519,16 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
         ring_of_[i] = static_cast<std::int32_t>(rep);  // reuse: representative's input index
         continue;
       }
-      tmp_index_[w++] = i;
+      tmp_index_[w] = i;
+      sorted_az_[w++] = az;
       rep = i;
+      rep_az = az;
     }
     new_begin = w;
   }
   grid.ring_begin[static_cast<std::size_t>(grid.num_rings)] = w;
   tmp_index_.resize(w);
+  sorted_az_.resize(w);
 }
 
 void ScanGridBuilder::linkRings(const Params& params, ScanGrid& grid)
