@@ -69,8 +69,8 @@ public:
 private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
-  void sortRings(const Params& params, ScanGrid& grid);
-  void sortRing(std::uint64_t* keys, std::uint32_t k);
+  void sortRings(ScanGrid& grid);  // ring_sort.cpp
+  void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);
   void removeDuplicates(const Params& params, ScanGrid& grid);
@@ -79,6 +79,7 @@ private:
 
   // scratch, per input point
   std::vector<std::int32_t> ring_of_;
+  std::vector<std::uint32_t> ring_count_;  // [0]: invalid points, [r + 1]: valid points of ring r
   std::vector<double> prange_;
   std::vector<float> paz_;
   // scratch, per ring / bin

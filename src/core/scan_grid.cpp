@@ -34,22 +34,6 @@ inline double readCoord(const std::uint8_t* rec, const FieldView& f)
   std::memcpy(&d, rec + f.offset, sizeof d);
   return d;
 }
-
-// The azimuth's float bits mapped to an unsigned key of the same order (a -0 azimuth is made +0
-// first, so equal floats give equal keys), with the input index below: one 64-bit comparison is
-// the order (azimuth, input index) exactly.
-inline std::uint64_t sortKey(float azimuth, std::uint32_t i)
-{
-  const std::uint32_t u = detail::floatBits(azimuth + 0.0f);
-  const std::uint32_t k = u ^ ((0u - (u >> 31)) | 0x80000000u);
-  return (static_cast<std::uint64_t>(k) << 32) | i;
-}
-inline float keyAzimuth(std::uint64_t key)
-{
-  const auto k = static_cast<std::uint32_t>(key >> 32);
-  return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
-}
-inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
 }  // namespace
 
 int ScanGrid::ringOf(std::uint32_t pos) const
@@ -88,7 +72,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   if (view.organized())
     placeOrganized(view, grid);
   else
-    sortRings(params, grid);
+    sortRings(grid);
   measureResolution(params, grid);
   if (!view.organized()) removeDuplicates(params, grid);
 
@@ -179,76 +163,74 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
 {
   const std::size_t n = view.size();
   grid.num_input = n;
-  grid.state.assign(n, PointState::Invalid);
-  grid.grid_pos.assign(n, -1);
+  // Every entry of these is written below (no fill first: one pass over the frame instead of two).
+  grid.state.resize(n);
+  grid.grid_pos.resize(n);
   ring_of_.resize(n);
   prange_.resize(n);
   paz_.resize(n);
   tmp_f_.resize(n);  // y of each point until the azimuths are computed (paz_ holds x)
-  const float rmin = params.min_range, rmax = params.max_range;
+  ring_count_.assign(static_cast<std::size_t>(params.max_rings) + 1, 0);
+  const double rmin = params.min_range, rmax = params.max_range;
   int max_ring = -1;
-  const bool have_ring = view.ring.present();
+  const auto ringError = [&](std::size_t i, std::int64_t r) {
+    std::ostringstream s;
+    s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
+    return Status::error(s.str());
+  };
+  // One point: its range decides validity (NaN and inf fail both comparisons), and the entries
+  // of invalid points are written too, without a branch (paz_ / tmp_f_ then hold garbage that
+  // nothing reads: every later use goes through the valid points' indices).
+  const auto store = [&](std::size_t i, double x, double y, double z, int ring) {
+    const double range = std::sqrt(x * x + y * y + z * z);
+    const bool valid = range >= rmin && range <= rmax;
+    prange_[i] = range;
+    paz_[i] = static_cast<float>(x);  // the azimuth follows in a second, vectorized loop
+    tmp_f_[i] = static_cast<float>(y);
+    ring_of_[i] = valid ? ring : -1;
+    grid.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
+    grid.grid_pos[i] = -1;
+    ++ring_count_[valid ? static_cast<std::size_t>(ring) + 1 : 0];
+    max_ring = valid && ring > max_ring ? ring : max_ring;
+  };
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  for (std::uint32_t row = 0; row < view.height; ++row)
+  if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
   {
-    const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
-    for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+    // velodyne, unorganized ouster: float32 x, y, z and a uint16 ring, read without per-point
+    // dispatch on types
+    const std::uint8_t* rec = view.data;
+    const auto max_rings = static_cast<std::uint32_t>(params.max_rings);
+    for (std::size_t i = 0; i < n; ++i, rec += view.point_step)
     {
-      const std::size_t i = static_cast<std::size_t>(row) * view.width + col;
-      double x, y, z;
-      if (fast)
+      std::uint16_t r16;
+      std::memcpy(&r16, rec + view.ring.offset, sizeof r16);
+      if (r16 >= max_rings) return ringError(i, r16);
+      store(i, readFloat32(rec + view.x.offset), readFloat32(rec + view.y.offset),
+            readFloat32(rec + view.z.offset), r16);
+    }
+  }
+  else
+  {
+    for (std::uint32_t row = 0; row < view.height; ++row)
+    {
+      const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
+      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
       {
-        x = readFloat32(rec + view.x.offset);
-        y = readFloat32(rec + view.y.offset);
-        z = readFloat32(rec + view.z.offset);
-      }
-      else
-      {
-        x = readCoord(rec, view.x);
-        y = readCoord(rec, view.y);
-        z = readCoord(rec, view.z);
-      }
-      int ring = static_cast<int>(row);
-      if (have_ring)
-      {
-        // uint16 (velodyne, ouster) read inline: the generic reader is a call and a switch per point
-        std::int64_t r;
-        if (view.ring.type == ScalarType::UInt16)
+        const std::size_t i = static_cast<std::size_t>(row) * view.width + col;
+        int ring = static_cast<int>(row);
+        if (view.ring.present())
         {
-          std::uint16_t r16;
-          std::memcpy(&r16, rec + view.ring.offset, sizeof r16);
-          r = r16;
+          const std::int64_t r = readInteger(rec + view.ring.offset, view.ring.type);
+          if (r < 0 || r >= params.max_rings) return ringError(i, r);
+          if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
         }
-        else
-        {
-          r = readInteger(rec + view.ring.offset, view.ring.type);
-        }
-        if (r < 0 || r >= params.max_rings)
-        {
-          std::ostringstream s;
-          s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
-          return Status::error(s.str());
-        }
-        if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
+        store(i, readCoord(rec, view.x), readCoord(rec, view.y), readCoord(rec, view.z), ring);
       }
-      const double range = std::sqrt(x * x + y * y + z * z);
-      prange_[i] = range;
-      if (!(range >= static_cast<double>(rmin) && range <= static_cast<double>(rmax)))  // also rejects NaN, inf
-      {
-        ring_of_[i] = -1;
-        continue;
-      }
-      paz_[i] = static_cast<float>(x);  // the azimuth follows in a second, vectorized loop
-      tmp_f_[i] = static_cast<float>(y);
-      ring_of_[i] = ring;
-      grid.state[i] = PointState::OnGrid;
-      max_ring = std::max(max_ring, ring);
     }
   }
   // Azimuths of every point at once, in a loop without branches or record reads that the
-  // compiler vectorizes (fastAtan2 was the largest cost of this function). Entries of invalid
-  // points hold garbage and are never read: every later use goes through tmp_index_.
+  // compiler vectorizes (fastAtan2 was the largest cost of this function).
   {
     float* const az = paz_.data();
     const float* const ys = tmp_f_.data();
@@ -289,143 +271,15 @@ void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const
     bin_start_[static_cast<std::size_t>(b)] = static_cast<std::uint32_t>(ring);
   }
   const int num = std::min(ring + 1, params.max_rings);
+  std::fill(ring_count_.begin() + 1, ring_count_.end(), 0u);  // recounted for the new rings
   for (std::size_t i = 0; i < n; ++i)
   {
     if (ring_of_[i] < 0) continue;
     const int b = std::clamp(static_cast<int>((tmp_f_[i] + kPi / 2) / kBinRad), 0, kBins - 1);
     ring_of_[i] = std::min(static_cast<int>(bin_start_[static_cast<std::size_t>(b)]), num - 1);
+    ++ring_count_[static_cast<std::size_t>(ring_of_[i]) + 1];
   }
   grid.num_rings = std::max(num, 0);
-}
-
-void ScanGridBuilder::sortRings(const Params& /*params*/, ScanGrid& grid)
-{
-  const std::size_t n = grid.num_input;
-  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
-  // 1) counting sort by ring (stable: keeps firing order), carrying each point's sort key, so
-  //    that everything after works on the ring's keys in place rather than reading each point's
-  //    azimuth through its input index (a scattered read per comparison).
-  counts_.assign(R + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (ring_of_[i] >= 0) ++counts_[static_cast<std::size_t>(ring_of_[i]) + 1];
-  for (std::size_t r = 0; r < R; ++r) counts_[r + 1] += counts_[r];
-  grid.ring_begin.assign(counts_.begin(), counts_.end());
-  const std::size_t m = counts_[R];
-  keys_.resize(m);
-  bin_start_.assign(counts_.begin(), counts_.end());
-  for (std::size_t i = 0; i < n; ++i)
-    if (ring_of_[i] >= 0)
-      keys_[bin_start_[static_cast<std::size_t>(ring_of_[i])]++] = sortKey(paz_[i], static_cast<std::uint32_t>(i));
-
-  // 2) per ring, order the keys: (azimuth, input index), a strict total order, so the result
-  //    does not depend on the order the points came in or on which sort finishes the ring.
-  for (std::size_t r = 0; r < R; ++r)
-  {
-    const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
-    if (e - b >= 2) sortRing(keys_.data() + b, e - b);
-  }
-  tmp_index_.resize(m);
-  sorted_az_.resize(m);
-  for (std::size_t p = 0; p < m; ++p)
-  {
-    tmp_index_[p] = keyIndex(keys_[p]);
-    sorted_az_[p] = keyAzimuth(keys_[p]);
-  }
-}
-
-void ScanGridBuilder::sortRing(std::uint64_t* t, std::uint32_t k)
-{
-  // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
-  // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
-  // the firing sequence. Reversed if mostly decreasing and rotated to start after the wrap,
-  // such a ring is nearly sorted and an insertion sort finishes it in about linear time; a
-  // move budget hands anything else to the bucket sort below, so no frame goes quadratic.
-  {
-    // One pass finds the direction and the seam both ways round: a step down by more than pi
-    // read forwards is a step up by more than pi read backwards. (Any choice of seam gives the
-    // same final order; it only decides how much the insertion sort has to move.)
-    std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
-    float drop = -kPi, rise = kPi;
-    float prev = keyAzimuth(t[0]);
-    for (std::uint32_t j = 1; j < k; ++j)
-    {
-      const float az = keyAzimuth(t[j]);
-      const float d = az - prev;
-      prev = az;
-      down += d < 0.0f ? 1u : 0u;
-      if (d < drop)
-      {
-        drop = d;
-        wrap_fwd = j;
-      }
-      if (d > rise)
-      {
-        rise = d;
-        wrap_bwd = j;
-      }
-    }
-    std::uint32_t wrap = wrap_fwd;
-    if (down > k / 2)
-    {
-      std::reverse(t, t + k);
-      wrap = wrap_bwd > 0 ? k - wrap_bwd : 0;  // samples j - 1, j move to k - j, k - 1 - j
-    }
-    if (wrap > 0) std::rotate(t, t + wrap, t + k);
-    const std::size_t budget = 8 * static_cast<std::size_t>(k);
-    std::size_t moves = 0;
-    for (std::uint32_t j = 1; j < k && moves < budget; ++j)
-    {
-      const std::uint64_t v = t[j];
-      std::uint32_t q = j;
-      while (q > 0 && v < t[q - 1] && moves < budget)
-      {
-        t[q] = t[q - 1];
-        --q;
-        ++moves;
-      }
-      t[q] = v;
-    }
-    if (moves < budget) return;
-  }
-  // Bucket sort by azimuth with about one bucket per point, then the order inside each bucket
-  // (insertion sort for small buckets, std::sort for crowded ones: no quadratic case).
-  std::uint32_t nb = 16;
-  while (nb < k) nb <<= 1;
-  const float scale = static_cast<float>(nb) / kTwoPi;
-  auto binOf = [&](std::uint64_t key) {
-    return std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((keyAzimuth(key) + kPi) * scale));
-  };
-  counts_.assign(nb + 1, 0);
-  for (std::uint32_t j = 0; j < k; ++j) ++counts_[binOf(t[j]) + 1];
-  for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
-  bin_start_.assign(counts_.begin(), counts_.end() - 1);
-  keys_tmp_.resize(k);
-  std::uint64_t* const perm = keys_tmp_.data();
-  for (std::uint32_t j = 0; j < k; ++j) perm[bin_start_[binOf(t[j])]++] = t[j];
-  for (std::uint32_t j = 0; j < nb; ++j)
-  {
-    const std::uint32_t lo = counts_[j], hi = counts_[j + 1];
-    if (hi - lo < 2) continue;
-    if (hi - lo <= 16)
-    {
-      for (std::uint32_t p = lo + 1; p < hi; ++p)
-      {
-        const std::uint64_t v = perm[p];
-        std::uint32_t q = p;
-        while (q > lo && v < perm[q - 1])
-        {
-          perm[q] = perm[q - 1];
-          --q;
-        }
-        perm[q] = v;
-      }
-    }
-    else
-    {
-      std::sort(perm + lo, perm + hi);
-    }
-  }
-  std::copy(perm, perm + k, t);
 }
 
 void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)

@@ -1,0 +1,168 @@
+// Orders the valid points of each ring by azimuth in O(n): a counting sort by ring, then per
+// ring an insertion sort of the nearly sorted firing order (a bucket sort when it is not).
+#include "ring_curvature/scan_grid.hpp"
+
+#include <algorithm>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kPi = 3.14159265358979f;
+constexpr float kTwoPi = 6.28318530717959f;
+
+// The azimuth's float bits mapped to an unsigned key of the same order (a -0 azimuth is made +0
+// first, so equal floats give equal keys), with the input index below: one 64-bit comparison is
+// the order (azimuth, input index) exactly, and the sorts move one register-sized value.
+inline std::uint64_t sortKey(float azimuth, std::uint32_t i)
+{
+  const std::uint32_t u = detail::floatBits(azimuth + 0.0f);
+  const std::uint32_t k = u ^ ((0u - (u >> 31)) | 0x80000000u);
+  return (static_cast<std::uint64_t>(k) << 32) | i;
+}
+inline float keyAzimuth(std::uint64_t key)
+{
+  const auto k = static_cast<std::uint32_t>(key >> 32);
+  return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
+}
+inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
+}  // namespace
+
+void ScanGridBuilder::sortRings(ScanGrid& grid)
+{
+  const std::size_t n = grid.num_input;
+  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
+  // 1) counting sort by ring (stable: keeps firing order; the counts come from readPoints),
+  //    carrying each point's sort key, so that the sorts below work on the ring's keys rather
+  //    than read each point's azimuth through its input index (a scattered read per comparison).
+  grid.ring_begin.assign(R + 1, 0);
+  for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
+  const std::size_t m = grid.ring_begin[R];
+  keys_.resize(m);
+  keys_tmp_.resize(m);
+  bin_start_.assign(grid.ring_begin.begin(), grid.ring_begin.end());
+  std::uint32_t* const next = bin_start_.data();
+  std::uint64_t* const unsorted = keys_tmp_.data();
+  for (std::size_t i = 0; i < n; ++i)
+    if (ring_of_[i] >= 0) unsorted[next[ring_of_[i]]++] = sortKey(paz_[i], static_cast<std::uint32_t>(i));
+
+  // 2) per ring, order the keys: (azimuth, input index) is a strict total order, so the result
+  //    depends neither on the order the points came in nor on which sort finishes the ring.
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
+    sortRing(unsorted + b, keys_.data() + b, e - b);
+  }
+  tmp_index_.resize(m);
+  sorted_az_.resize(m);
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    tmp_index_[p] = keyIndex(keys_[p]);
+    sorted_az_[p] = keyAzimuth(keys_[p]);
+  }
+}
+
+void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
+{
+  if (k < 2)
+  {
+    std::copy(src, src + k, dst);
+    return;
+  }
+  // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
+  // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
+  // the firing sequence. Read backwards if mostly decreasing, starting after the wrap, such a
+  // ring is nearly sorted and an insertion sort finishes it in about linear time; a move budget
+  // hands anything else to the bucket sort below, so no frame goes quadratic.
+  {
+    // One pass finds the direction and the seam both ways round: a step down by more than pi
+    // read forwards is a step up by more than pi read backwards. (Any choice of seam gives the
+    // same final order; it only decides how much the insertion sort has to move.)
+    std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
+    float drop = -kPi, rise = kPi;
+    float prev = keyAzimuth(src[0]);
+    for (std::uint32_t j = 1; j < k; ++j)
+    {
+      const float az = keyAzimuth(src[j]);
+      const float d = az - prev;
+      prev = az;
+      down += d < 0.0f ? 1u : 0u;
+      if (d < drop)
+      {
+        drop = d;
+        wrap_fwd = j;
+      }
+      if (d > rise)
+      {
+        rise = d;
+        wrap_bwd = j;
+      }
+    }
+    const std::size_t budget = 8 * static_cast<std::size_t>(k);
+    std::size_t moves = 0;
+    std::uint32_t j = 0;  // keys placed so far
+    auto insert = [&](std::uint64_t v) {
+      std::uint32_t q = j++;
+      while (q > 0 && v < dst[q - 1] && moves < budget)
+      {
+        dst[q] = dst[q - 1];
+        --q;
+        ++moves;
+      }
+      dst[q] = v;
+    };
+    // The reading order is the sequence rotated to start after the wrap (and reversed first when
+    // mostly decreasing): read straight from src, instead of reversing and rotating it in place.
+    if (down > k / 2)
+    {
+      const std::uint32_t start = wrap_bwd > 0 ? wrap_bwd - 1 : k - 1;  // reversed, then rotated
+      for (std::uint32_t i = start + 1; i-- > 0 && moves < budget;) insert(src[i]);
+      for (std::uint32_t i = k; i-- > start + 1 && moves < budget;) insert(src[i]);
+    }
+    else
+    {
+      for (std::uint32_t i = wrap_fwd; i < k && moves < budget; ++i) insert(src[i]);
+      for (std::uint32_t i = 0; i < wrap_fwd && moves < budget; ++i) insert(src[i]);
+    }
+    if (moves < budget) return;
+  }
+  // Bucket sort by azimuth with about one bucket per point, then the order inside each bucket
+  // (insertion sort for small buckets, std::sort for crowded ones: no quadratic case).
+  std::uint32_t nb = 16;
+  while (nb < k) nb <<= 1;
+  const float scale = static_cast<float>(nb) / kTwoPi;
+  auto binOf = [&](std::uint64_t key) {
+    return std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((keyAzimuth(key) + kPi) * scale));
+  };
+  counts_.assign(nb + 1, 0);
+  for (std::uint32_t j = 0; j < k; ++j) ++counts_[binOf(src[j]) + 1];
+  for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
+  bin_start_.assign(counts_.begin(), counts_.end() - 1);
+  for (std::uint32_t j = 0; j < k; ++j) dst[bin_start_[binOf(src[j])]++] = src[j];
+  for (std::uint32_t j = 0; j < nb; ++j)
+  {
+    const std::uint32_t lo = counts_[j], hi = counts_[j + 1];
+    if (hi - lo < 2) continue;
+    if (hi - lo <= 16)
+    {
+      for (std::uint32_t p = lo + 1; p < hi; ++p)
+      {
+        const std::uint64_t v = dst[p];
+        std::uint32_t q = p;
+        while (q > lo && v < dst[q - 1])
+        {
+          dst[q] = dst[q - 1];
+          --q;
+        }
+        dst[q] = v;
+      }
+    }
+    else
+    {
+      std::sort(dst + lo, dst + hi);
+    }
+  }
+}
+
+}  // namespace ring_curvature
