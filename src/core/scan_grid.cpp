@@ -79,15 +79,43 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   // Gather the structure-of-arrays grid in final order. x, y, z are read from the input records
   // themselves (one cache line per point) instead of from per-input scratch copies: those were
   // three more arrays written per input point and read back at random here. The values are the
-  // same (float32 widens to double exactly; float64 is copied).
+  // same (float32 widens to double exactly; float64 is copied). The sorted order and azimuths
+  // become the grid's by a swap (the scratch takes the grid's old buffers: no copy, no allocation).
   const std::size_t m = tmp_index_.size();
-  grid.index.assign(tmp_index_.begin(), tmp_index_.end());
+  grid.index.swap(tmp_index_);
+  grid.azimuth.swap(sorted_az_);
   grid.x.resize(m);
   grid.y.resize(m);
   grid.z.resize(m);
   grid.range.resize(m);
-  grid.azimuth.resize(m);
-  std::copy(sorted_az_.begin(), sorted_az_.end(), grid.azimuth.begin());
+  grid.num_valid = m;
+  grid.ring_elevation.assign(static_cast<std::size_t>(grid.num_rings), 0.0f);
+  grid.ring_cos.assign(static_cast<std::size_t>(grid.num_rings), 1.0f);
+  // Ring by ring, so the mean elevation of each ring (for the cone's development factor
+  // cos(phi)) is summed in the same pass. `read(i, x, y, z)` reads input point i.
+  const auto gather = [&](auto&& read) {
+    double* const gx = grid.x.data();
+    double* const gy = grid.y.data();
+    double* const gz = grid.z.data();
+    double* const gr = grid.range.data();
+    const std::uint32_t* const index = grid.index.data();
+    for (int n = 0; n < grid.num_rings; ++n)
+    {
+      const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+      double s = 0;
+      for (std::uint32_t p = b; p < e; ++p)
+      {
+        const std::uint32_t i = index[p];
+        read(i, gx[p], gy[p], gz[p]);
+        gr[p] = prange_[i];
+        grid.grid_pos[i] = static_cast<std::int32_t>(p);
+        s += gz[p] / gr[p];
+      }
+      const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
+      grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
+      grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
+    }
+  };
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
   if (fast && view.height == 1)
@@ -97,24 +125,18 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     const std::uint8_t* const py = view.data + view.y.offset;
     const std::uint8_t* const pz = view.data + view.z.offset;
     const std::size_t step = view.point_step;
-    for (std::size_t p = 0; p < m; ++p)
-    {
-      const std::uint32_t i = tmp_index_[p];
+    gather([&](std::uint32_t i, double& x, double& y, double& z) {
       const std::size_t off = static_cast<std::size_t>(i) * step;
-      grid.x[p] = readFloat32(px + off);
-      grid.y[p] = readFloat32(py + off);
-      grid.z[p] = readFloat32(pz + off);
-      grid.range[p] = prange_[i];
-      grid.grid_pos[i] = static_cast<std::int32_t>(p);
-    }
+      x = readFloat32(px + off);
+      y = readFloat32(py + off);
+      z = readFloat32(pz + off);
+    });
   }
   else
   {
     const std::size_t W = view.width;
     std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
-    for (std::size_t p = 0; p < m; ++p)
-    {
-      const std::uint32_t i = tmp_index_[p];
+    gather([&](std::uint32_t i, double& x, double& y, double& z) {
       const std::uint8_t* rec;
       if (view.height == 1)
       {
@@ -125,34 +147,26 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
         while (i >= (row + 1) * W) ++row;
         rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
       }
-      grid.x[p] = readCoord(rec, view.x);
-      grid.y[p] = readCoord(rec, view.y);
-      grid.z[p] = readCoord(rec, view.z);
-      grid.range[p] = prange_[i];
-      grid.grid_pos[i] = static_cast<std::int32_t>(p);
-    }
+      x = readCoord(rec, view.x);
+      y = readCoord(rec, view.y);
+      z = readCoord(rec, view.z);
+    });
   }
-  grid.num_valid = m;
-  // Duplicates and second returns point at their representative (stored as an input index).
+  // The Duplicate points in ascending input order (their grid_pos was set by removeDuplicates),
+  // by a branch-free compaction: dual-return frames make the test a coin toss per point.
   grid.duplicates.clear();
-  for (std::size_t i = 0; i < grid.num_input; ++i)
+  if (grid.num_duplicates > 0)
   {
-    if (grid.state[i] != PointState::Duplicate && grid.state[i] != PointState::SecondReturn) continue;
-    grid.grid_pos[i] = grid.grid_pos[static_cast<std::size_t>(ring_of_[i])];
-    if (grid.state[i] == PointState::Duplicate) grid.duplicates.push_back(static_cast<std::uint32_t>(i));
-  }
-
-  // Mean elevation per ring (for the cone's development factor cos(phi)).
-  grid.ring_elevation.assign(static_cast<std::size_t>(grid.num_rings), 0.0f);
-  grid.ring_cos.assign(static_cast<std::size_t>(grid.num_rings), 1.0f);
-  for (int n = 0; n < grid.num_rings; ++n)
-  {
-    double s = 0;
-    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
-    for (std::uint32_t p = b; p < e; ++p) s += grid.z[p] / grid.range[p];
-    const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
-    grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
-    grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
+    grid.duplicates.resize(grid.num_input);
+    std::uint32_t* const dup = grid.duplicates.data();
+    const PointState* const state = grid.state.data();
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < grid.num_input; ++i)
+    {
+      dup[count] = static_cast<std::uint32_t>(i);
+      count += state[i] == PointState::Duplicate ? 1 : 0;
+    }
+    grid.duplicates.resize(count);
   }
   linkRings(params, grid);
   findVerticalNeighbours(grid);
@@ -370,7 +384,7 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
         const bool same = std::fabs(prange_[i] - prange_[ri]) <= static_cast<double>(same_range);
         grid.state[i] = same ? PointState::Duplicate : PointState::SecondReturn;
         ++(same ? grid.num_duplicates : grid.num_second_returns);
-        ring_of_[i] = static_cast<std::int32_t>(rep);  // reuse: representative's input index
+        grid.grid_pos[i] = static_cast<std::int32_t>(w - 1);  // the representative's grid position
         continue;
       }
       tmp_index_[w] = i;
@@ -434,30 +448,32 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
     }
     return;
   }
-  // Two sorted sequences: walk them together and take the nearest azimuth (circularly).
+  // Two sorted sequences: walk them together and take the nearest azimuth (circularly), the
+  // first of equals in the order q, q + 1, last. Branch-free choice: which candidate wins is a
+  // coin toss per point. |wrapPi(d)| for |d| < 2 pi is |d| or 2 pi - |d|, the same float ops.
+  const auto circDist = [](float d) {
+    const float a = std::fabs(d);
+    return a > kPi ? kTwoPi - a : a;
+  };
+  const float* const az = grid.azimuth.data();
+  std::int32_t* const up = grid.up.data();
   for (int n = 0; n + 1 < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     const std::uint32_t ub = e, ue = grid.ring_begin[static_cast<std::size_t>(n) + 2];
     if (ub == ue) continue;
     std::uint32_t q = ub;
+    const float last = az[ue - 1];
     for (std::uint32_t p = b; p < e; ++p)
     {
-      const float a = grid.azimuth[p];
-      while (q + 1 < ue && grid.azimuth[q + 1] <= a) ++q;
-      std::uint32_t best = q;
-      float bd = std::fabs(wrapPi(grid.azimuth[q] - a));
-      const std::uint32_t cand[2] = {q + 1 < ue ? q + 1 : ub, ue - 1};  // next one, and the wrap
-      for (std::uint32_t c : cand)
-      {
-        const float d = std::fabs(wrapPi(grid.azimuth[c] - a));
-        if (d < bd)
-        {
-          bd = d;
-          best = c;
-        }
-      }
-      grid.up[p] = static_cast<std::int32_t>(best);
+      const float a = az[p];
+      while (q + 1 < ue && az[q + 1] <= a) ++q;
+      const std::uint32_t c1 = q + 1 < ue ? q + 1 : ub;  // the next one (around the seam)
+      const float d0 = circDist(az[q] - a), d1 = circDist(az[c1] - a), d2 = circDist(last - a);
+      std::uint32_t best = d1 < d0 ? c1 : q;
+      const float bd = d1 < d0 ? d1 : d0;
+      best = d2 < bd ? ue - 1 : best;
+      up[p] = static_cast<std::int32_t>(best);
     }
   }
 }
