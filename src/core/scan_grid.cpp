@@ -84,6 +84,10 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   const std::size_t m = tmp_index_.size();
   grid.index.swap(tmp_index_);
   grid.azimuth.swap(sorted_az_);
+  // Both buffers of each pair take the larger capacity: otherwise they would alternate roles
+  // with unequal capacities, and a large frame could meet the smaller one long after warm-up.
+  tmp_index_.reserve(grid.index.capacity());
+  sorted_az_.reserve(grid.azimuth.capacity());
   grid.x.resize(m);
   grid.y.resize(m);
   grid.z.resize(m);
