@@ -102,28 +102,27 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   int* L = left.data();
   int* Rr = left.data() + K;
   const double* rho = g.range.data() + b;
-  auto linkOk = [&](std::uint32_t k) -> bool { return g.linked[b + k] != 0; };
+  const std::uint8_t* const lk = g.linked.data() + b;
   {
-    // forward pass for L (wrap once around for closed rings)
+    // One pass each way. A closed ring's runs continue across the seam: the run entering the
+    // first sample is the one a lap around the ring would leave, found by a walk of at most
+    // `cap` links. (An open ring has linked[first] = 0, so its runs start at 0.)
     int run = 0;
-    const std::uint32_t passes = closed ? 2 : 1;
-    for (std::uint32_t t = 0, k = 0; t < passes * K; ++t, k = k + 1 == K ? 0 : k + 1)  // k = t % K
+    if (closed)
+      for (std::uint32_t j = K; j-- > 0 && lk[j] != 0 && run < cap;) ++run;
+    for (std::uint32_t k = 0; k < K; ++k)
     {
-      if (t == 0 && !closed)
-        run = 0;
-      else
-        run = linkOk(k) ? std::min(run + 1, cap) : 0;
-      if (t >= (passes - 1) * K) L[k] = run;
+      run = lk[k] != 0 ? std::min(run + 1, cap) : 0;
+      L[k] = run;
     }
     run = 0;
-    for (std::uint32_t t = 0, k = K - 1; t < passes * K; ++t, k = k == 0 ? K - 1 : k - 1)  // k = K-1 - t % K
+    if (closed)
+      for (std::uint32_t j = 1; j <= K && lk[j == K ? 0 : j] != 0 && run < cap; ++j) ++run;
+    for (std::uint32_t k = K; k-- > 0;)
     {
-      const std::uint32_t next = k + 1 == K ? 0 : k + 1;
-      if (t == 0 && !closed)
-        run = 0;
-      else
-        run = (k + 1 < K || closed) && linkOk(next) ? std::min(run + 1, cap) : 0;
-      if (t >= (passes - 1) * K) Rr[k] = run;
+      const bool ok = k + 1 < K ? lk[k + 1] != 0 : closed && lk[0] != 0;
+      run = ok ? std::min(run + 1, cap) : 0;
+      Rr[k] = run;
     }
   }
 
@@ -182,6 +181,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   double* U2 = V2 + K;
   if (P.curvature_mode == CurvatureMode::Chord)
   {
+    const int max_h = P.max_chord_samples;  // a local: H's int stores might alias P's ints
     for (std::uint32_t k = 0; k < K; ++k)
     {
       // Samples needed for a chord of `chord` metres at this range (spacing ~ rho cos(phi) dtheta).
@@ -190,7 +190,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
       // SSE2 has no rounding instruction and std::ceil stayed a call per sample.
       const double q = chord / (spacing > 1e-6 ? spacing : 1e-6);  // NaN-safe
       const int t = static_cast<int>(q);
-      H[k] = std::clamp(t + (static_cast<double>(t) < q ? 1 : 0), 1, P.max_chord_samples);
+      H[k] = std::clamp(t + (static_cast<double>(t) < q ? 1 : 0), 1, max_h);
     }
   }
   if (!exact)
@@ -258,11 +258,18 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
       LEN[k] = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
     }
   }
-  for (std::uint32_t k = 0; k < K; ++k)
   {
-    const bool defined = L[k] != 0 && Rr[k] != 0;
-    out.turning[b + k] = defined ? static_cast<float>(TURN[k]) : kNaN;
-    out.curvature[b + k] = defined && LEN[k] > 0 ? static_cast<float>(TURN[k] / LEN[k]) : kNaN;
+    // Straight-line (the quotient is formed everywhere and then chosen; `&` rather than `&&`),
+    // raw pointers: the compiler vectorizes this.
+    float* const turning = out.turning.data() + b;
+    float* const curvature = out.curvature.data() + b;
+    for (std::uint32_t k = 0; k < K; ++k)
+    {
+      const bool defined = (L[k] != 0) & (Rr[k] != 0);
+      const float kappa = static_cast<float>(TURN[k] / LEN[k]);
+      turning[k] = defined ? static_cast<float>(TURN[k]) : kNaN;
+      curvature[k] = defined & (LEN[k] > 0) ? kappa : kNaN;
+    }
   }
 
   // Discontinuity.
