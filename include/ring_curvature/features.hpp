@@ -30,7 +30,7 @@ private:
   // scratch for one ring (sized to the largest ring, reused)
   std::vector<float> wx_, wy_;        // developed (or z-plane) coordinates
   std::vector<double> rho_pad_;       // the ring's ranges, padded with the seam's neighbours
-  std::vector<float> az_pad_;         // and azimuths
+  std::vector<double> az_pad_;        // and azimuths
   std::vector<float> ds_;             // arc length to the next sample
   std::vector<int> seg_id_;           // curve segment of each sample (gaps split segments)
   std::vector<double> prefix_;        // prefix sums for windowed statistics

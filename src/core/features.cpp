@@ -2,6 +2,8 @@
 // no feature reaches across a gap, and a closed ring wraps across the 0/360 deg seam.
 #include "ring_curvature/features.hpp"
 
+#include "simd_clones.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,10 +16,12 @@ namespace
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kPiD = 3.14159265358979323846;
 
-double wrapPiD(double a)
+// Selections rather than branches, so loops calling it can be vectorized (with
+// -fno-trapping-math the compiler may form both sides).
+inline double wrapPiD(double a)
 {
-  if (a >= kPiD) a -= 2 * kPiD;
-  if (a < -kPiD) a += 2 * kPiD;
+  a = a >= kPiD ? a - 2 * kPiD : a;
+  a = a < -kPiD ? a + 2 * kPiD : a;
   return a;
 }
 
@@ -41,6 +45,37 @@ inline void smallSinCos(double a, double& s, double& c)
     return;
   }
   polySinCos(a, s, c);
+}
+
+// Chord mode's developed chords from vertex k to k - min(H, L) and k + min(H, R), on the padded
+// ring arrays (`az`, `rho` indexed from -pad): their cross and dot products and squared
+// lengths. Where a side has no neighbour the reach is 0 and the chord degenerates to the vertex
+// itself (harmless values the caller never stores). The sine and cosine come from the
+// polynomial alone; returns true when an angle exceeded its range (odd data), and the caller
+// then recomputes the ring with the libm branch. A function of its own for `__restrict` (which
+// GCC honours on parameters): a gathered load might otherwise alias a store, and the loop stayed
+// scalar; with it the loop is vectorized.
+RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
+                   const double* __restrict rho, double* __restrict cross, double* __restrict dot,
+                   double* __restrict v2, double* __restrict u2)
+{
+  int large = 0;  // an int and `|`: no short-circuit branch in the loop
+  for (int k = 0; k < K; ++k)
+  {
+    const int kp = k - std::min(H[k], L[k]), kn = k + std::min(H[k], R[k]);
+    const double ap = c * wrapPiD(az[kp] - az[k]), an = c * wrapPiD(az[kn] - az[k]);
+    large |= (std::fabs(ap) > kSmallAngle ? 1 : 0) | (std::fabs(an) > kSmallAngle ? 1 : 0);
+    double sp, cp, sn, cn;
+    polySinCos(ap, sp, cp);
+    polySinCos(an, sn, cn);
+    const double vx = rho[k] - rho[kp] * cp, vy = -(rho[kp] * sp);  // incoming chord
+    const double ux = rho[kn] * cn - rho[k], uy = rho[kn] * sn;     // outgoing chord
+    cross[k] = vx * uy - vy * ux;
+    dot[k] = vx * ux + vy * uy;
+    v2[k] = vx * vx + vy * vy;
+    u2[k] = ux * ux + uy * uy;
+  }
+  return large != 0;
 }
 
 // Per-ring view with circular neighbour access limited to the current run.
@@ -79,7 +114,7 @@ void FeatureComputer::compute(const ScanGrid& grid, const Params& params, Featur
   for (int n = 0; n < grid.num_rings; ++n) computeRing(grid, params, n, out);
 }
 
-void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Features& out)
+RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Features& out)
 {
   const std::uint32_t b = g.ring_begin[static_cast<std::size_t>(n)];
   const std::uint32_t K = g.ring_begin[static_cast<std::size_t>(n) + 1] - b;
@@ -133,7 +168,7 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   rho_pad_.resize(K + 2 * static_cast<std::size_t>(cap));
   az_pad_.resize(K + 2 * static_cast<std::size_t>(cap));
   double* const rp = rho_pad_.data() + cap;
-  float* const azp = az_pad_.data() + cap;
+  double* const azp = az_pad_.data() + cap;  // double: one type in the loop below (float widens exactly)
   std::copy(rho, rho + K, rp);
   std::copy(g.azimuth.begin() + b, g.azimuth.begin() + b + K, azp);
   const auto padFrom = [&](std::int64_t k) {
@@ -195,40 +230,24 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   }
   if (!exact)
   {
-    // Chord mode: the developed chords to k - hl and k + hr, read from the padded copies. Where
-    // the vertex lacks a neighbour on a side (L or R is 0) the reach is 0 and the chord
-    // degenerates to the vertex itself: harmless values that are never stored. The sine and
-    // cosine come from the polynomial alone, without the branch to libm for angles above 0.2 rad
-    // (which stopped the compiler from keeping this loop straight); such angles only arise from
-    // odd data, and if any did, the ring is recomputed with the branch below.
-    bool large = false;
-    auto chords = [&](std::uint32_t k, bool exact_trig) {
-      const int hl = std::min(H[k], L[k]), hr = std::min(H[k], Rr[k]);
-      const double ap = c * wrapPiD(static_cast<double>(azp[static_cast<std::int64_t>(k) - hl]) - azp[k]);
-      const double an = c * wrapPiD(static_cast<double>(azp[k + static_cast<std::uint32_t>(hr)]) - azp[k]);
-      double sp, cp, sn, cn;
-      if (exact_trig)
+    // Chord mode (see chordProducts). If an angle exceeded the polynomial's range, the ring is
+    // recomputed with the libm branch (rare; only odd data).
+    if (chordProducts(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2))
+    {
+      for (int k = 0; k < static_cast<int>(K); ++k)
       {
-        smallSinCos(ap, sp, cp);
-        smallSinCos(an, sn, cn);
+        const int kp = k - std::min(H[k], L[k]), kn = k + std::min(H[k], Rr[k]);
+        double sp, cp, sn, cn;
+        smallSinCos(c * wrapPiD(azp[kp] - azp[k]), sp, cp);
+        smallSinCos(c * wrapPiD(azp[kn] - azp[k]), sn, cn);
+        const double vx = rho[k] - rp[kp] * cp, vy = -(rp[kp] * sp);
+        const double ux = rp[kn] * cn - rho[k], uy = rp[kn] * sn;
+        CROSS[k] = vx * uy - vy * ux;
+        DOT[k] = vx * ux + vy * uy;
+        V2[k] = vx * vx + vy * vy;
+        U2[k] = ux * ux + uy * uy;
       }
-      else
-      {
-        large |= std::fabs(ap) > kSmallAngle || std::fabs(an) > kSmallAngle;
-        polySinCos(ap, sp, cp);
-        polySinCos(an, sn, cn);
-      }
-      const double rpp = rp[static_cast<std::int64_t>(k) - hl], rpn = rp[k + static_cast<std::uint32_t>(hr)];
-      const double vx = rho[k] - rpp * cp, vy = -(rpp * sp);  // incoming chord
-      const double ux = rpn * cn - rho[k], uy = rpn * sn;     // outgoing chord
-      CROSS[k] = vx * uy - vy * ux;
-      DOT[k] = vx * ux + vy * uy;
-      V2[k] = vx * vx + vy * vy;
-      U2[k] = ux * ux + uy * uy;
-    };
-    for (std::uint32_t k = 0; k < K; ++k) chords(k, false);
-    if (large)
-      for (std::uint32_t k = 0; k < K; ++k) chords(k, true);
+    }
     // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
     for (std::uint32_t k = 0; k < K; ++k)
     {

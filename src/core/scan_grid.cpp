@@ -332,7 +332,11 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
   }
   // Median spacing of neighbouring samples on the same ring; same-firing duplicates (spacing
   // near 0) and gaps (> 5 deg) are left out. For organized clouds the spacing per column.
-  tmp_f_.clear();
+  // Kept by a branch-free compaction (no push_back bookkeeping per sample).
+  tmp_f_.resize(sorted_az_.size() + 1);
+  float* const kept = tmp_f_.data();
+  const float* const az = sorted_az_.data();
+  std::size_t count = 0;
   std::uint32_t largest = 1;
   for (int n = 0; n < grid.num_rings; ++n)
   {
@@ -340,15 +344,17 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     largest = std::max(largest, e - b);
     for (std::uint32_t p = b + 1; p < e; ++p)
     {
-      float d = std::fabs(wrapPi(sorted_az_[p] - sorted_az_[p - 1]));
+      float d = std::fabs(wrapPi(az[p] - az[p - 1]));
       if (grid.organized)
       {
         const std::uint32_t dc = column_[p] - column_[p - 1];
         d /= static_cast<float>(dc);
       }
-      if (d > 1e-5f && d < 5.0f * kDeg) tmp_f_.push_back(d);
+      kept[count] = d;
+      count += (d > 1e-5f) & (d < 5.0f * kDeg) ? 1 : 0;
     }
   }
+  tmp_f_.resize(count);
   if (tmp_f_.empty())
   {
     grid.azimuth_resolution = kTwoPi / static_cast<float>(largest);

@@ -1,0 +1,12 @@
+// RC_SIMD_CLONES: compile a hot loop's function twice, for the x86-64 baseline and for AVX2, and
+// pick one at load time by the CPU (GCC function multiversioning, an ifunc). The package stays a
+// portable baseline build; a CPU with AVX2 runs the gathers and 4-wide doubles its loops need.
+// Only AVX2 is enabled, not FMA: fused multiply-adds would round differently, and both versions
+// must give the same bits. Elsewhere (other compilers, other architectures) it expands to nothing.
+#pragma once
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define RC_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define RC_SIMD_CLONES
+#endif
