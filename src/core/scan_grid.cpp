@@ -3,6 +3,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "cloud_view_checks.hpp"
+#include "simd_clones.hpp"
 
 #include "ring_curvature/classifier.hpp"  // selectQuantile
 
@@ -33,6 +34,66 @@ inline double readCoord(const std::uint8_t* rec, const FieldView& f)
   double d;
   std::memcpy(&d, rec + f.offset, sizeof d);
   return d;
+}
+}  // namespace
+
+namespace
+{
+// The common layout (velodyne, unorganized ouster: float32 x, y, z and a uint16 ring at fixed
+// offsets of `step`-byte records), read in one loop without branches, early exits or per-point
+// dispatch on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES).
+// Validity is the range test (NaN and inf fail both comparisons); the entries of invalid points
+// are written too (paz / py then hold values nothing reads). Returns the largest ring read, so
+// the caller can reject the frame after the loop.
+RC_SIMD_CLONES std::uint32_t readXyzRing16(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
+                                           std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
+                                           double rmin, double rmax, double* __restrict range_out,
+                                           float* __restrict px, float* __restrict py,
+                                           std::int32_t* __restrict ring_out, PointState* __restrict state,
+                                           std::int32_t* __restrict grid_pos)
+{
+  std::uint32_t max_read = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint8_t* const rec = data + i * step;
+    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
+    std::uint16_t r16;
+    std::memcpy(&r16, rec + oring, sizeof r16);
+    max_read = std::max<std::uint32_t>(max_read, r16);
+    const double x = fx, y = fy, z = fz;
+    const double range = std::sqrt(x * x + y * y + z * z);
+    const bool valid = (range >= rmin) & (range <= rmax);
+    range_out[i] = range;
+    px[i] = fx;
+    py[i] = fy;
+    ring_out[i] = valid ? r16 : -1;
+    state[i] = valid ? PointState::OnGrid : PointState::Invalid;
+    grid_pos[i] = -1;
+  }
+  return max_read;
+}
+
+// Grid coordinates from the input records in grid order (float32 widens to double exactly): a
+// gather, vectorized on AVX2.
+RC_SIMD_CLONES void gatherXyz(const std::uint8_t* __restrict data, std::size_t m, std::size_t step, std::size_t ox,
+                              std::size_t oy, std::size_t oz, const std::uint32_t* __restrict index,
+                              const double* __restrict prange, double* __restrict gx, double* __restrict gy,
+                              double* __restrict gz, double* __restrict gr)
+{
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    const std::uint8_t* const rec = data + static_cast<std::size_t>(index[p]) * step;
+    gx[p] = readFloat32(rec + ox);
+    gy[p] = readFloat32(rec + oy);
+    gz[p] = readFloat32(rec + oz);
+    gr[p] = prange[index[p]];
+  }
+}
+
+// Azimuths of every point at once (fastAtan2 is branch-free: 4 or 8 at a time).
+RC_SIMD_CLONES void azimuths(std::size_t n, float* __restrict x_then_azimuth, const float* __restrict y)
+{
+  for (std::size_t i = 0; i < n; ++i) x_then_azimuth[i] = fastAtan2(y[i], x_then_azimuth[i]);
 }
 }  // namespace
 
@@ -95,52 +156,26 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   grid.num_valid = m;
   grid.ring_elevation.assign(static_cast<std::size_t>(grid.num_rings), 0.0f);
   grid.ring_cos.assign(static_cast<std::size_t>(grid.num_rings), 1.0f);
-  // Ring by ring, so the mean elevation of each ring (for the cone's development factor
-  // cos(phi)) is summed in the same pass. `read(i, x, y, z)` reads input point i.
-  const auto gather = [&](auto&& read) {
-    double* const gx = grid.x.data();
-    double* const gy = grid.y.data();
-    double* const gz = grid.z.data();
-    double* const gr = grid.range.data();
-    const std::uint32_t* const index = grid.index.data();
-    for (int n = 0; n < grid.num_rings; ++n)
-    {
-      const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
-      double s = 0;
-      for (std::uint32_t p = b; p < e; ++p)
-      {
-        const std::uint32_t i = index[p];
-        read(i, gx[p], gy[p], gz[p]);
-        gr[p] = prange_[i];
-        grid.grid_pos[i] = static_cast<std::int32_t>(p);
-        s += gz[p] / gr[p];
-      }
-      const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
-      grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
-      grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
-    }
-  };
+  double* const gx = grid.x.data();
+  double* const gy = grid.y.data();
+  double* const gz = grid.z.data();
+  double* const gr = grid.range.data();
+  const std::uint32_t* const index = grid.index.data();
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
   if (fast && view.height == 1)
   {
-    // the common case (velodyne, unorganized): one multiply per record address, no branches
-    const std::uint8_t* const px = view.data + view.x.offset;
-    const std::uint8_t* const py = view.data + view.y.offset;
-    const std::uint8_t* const pz = view.data + view.z.offset;
-    const std::size_t step = view.point_step;
-    gather([&](std::uint32_t i, double& x, double& y, double& z) {
-      const std::size_t off = static_cast<std::size_t>(i) * step;
-      x = readFloat32(px + off);
-      y = readFloat32(py + off);
-      z = readFloat32(pz + off);
-    });
+    gatherXyz(view.data, m, view.point_step, static_cast<std::size_t>(view.x.offset),
+              static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset), index,
+              prange_.data(), gx, gy, gz, gr);
   }
   else
   {
     const std::size_t W = view.width;
     std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
-    gather([&](std::uint32_t i, double& x, double& y, double& z) {
+    for (std::size_t p = 0; p < m; ++p)
+    {
+      const std::uint32_t i = index[p];
       const std::uint8_t* rec;
       if (view.height == 1)
       {
@@ -151,10 +186,26 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
         while (i >= (row + 1) * W) ++row;
         rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
       }
-      x = readCoord(rec, view.x);
-      y = readCoord(rec, view.y);
-      z = readCoord(rec, view.z);
-    });
+      gx[p] = readCoord(rec, view.x);
+      gy[p] = readCoord(rec, view.y);
+      gz[p] = readCoord(rec, view.z);
+      gr[p] = prange_[i];
+    }
+  }
+  // Grid positions, and the mean elevation of each ring (for the cone's development factor
+  // cos(phi)), summed in grid order.
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    double s = 0;
+    for (std::uint32_t p = b; p < e; ++p)
+    {
+      grid.grid_pos[index[p]] = static_cast<std::int32_t>(p);
+      s += gz[p] / gr[p];
+    }
+    const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
+    grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
+    grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
   }
   // The Duplicate points in ascending input order (their grid_pos was set by removeDuplicates),
   // by a branch-free compaction: dual-return frames make the test a coin toss per point.
@@ -177,6 +228,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   return Status::success();
 }
 
+
 Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid)
 {
   const std::size_t n = view.size();
@@ -188,44 +240,28 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   prange_.resize(n);
   paz_.resize(n);
   tmp_f_.resize(n);  // y of each point until the azimuths are computed (paz_ holds x)
-  ring_count_.assign(static_cast<std::size_t>(params.max_rings) + 1, 0);
   const double rmin = params.min_range, rmax = params.max_range;
-  int max_ring = -1;
   const auto ringError = [&](std::size_t i, std::int64_t r) {
     std::ostringstream s;
     s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
     return Status::error(s.str());
   };
-  // One point: its range decides validity (NaN and inf fail both comparisons), and the entries
-  // of invalid points are written too, without a branch (paz_ / tmp_f_ then hold garbage that
-  // nothing reads: every later use goes through the valid points' indices).
-  const auto store = [&](std::size_t i, double x, double y, double z, int ring) {
-    const double range = std::sqrt(x * x + y * y + z * z);
-    const bool valid = range >= rmin && range <= rmax;
-    prange_[i] = range;
-    paz_[i] = static_cast<float>(x);  // the azimuth follows in a second, vectorized loop
-    tmp_f_[i] = static_cast<float>(y);
-    ring_of_[i] = valid ? ring : -1;
-    grid.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-    grid.grid_pos[i] = -1;
-    ++ring_count_[valid ? static_cast<std::size_t>(ring) + 1 : 0];
-    max_ring = valid && ring > max_ring ? ring : max_ring;
-  };
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
   if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
   {
-    // velodyne, unorganized ouster: float32 x, y, z and a uint16 ring, read without per-point
-    // dispatch on types
-    const std::uint8_t* rec = view.data;
-    const auto max_rings = static_cast<std::uint32_t>(params.max_rings);
-    for (std::size_t i = 0; i < n; ++i, rec += view.point_step)
+    const std::uint32_t max_read = readXyzRing16(
+        view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
+        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), rmin, rmax,
+        prange_.data(), paz_.data(), tmp_f_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
+    if (max_read >= static_cast<std::uint32_t>(params.max_rings))
     {
-      std::uint16_t r16;
-      std::memcpy(&r16, rec + view.ring.offset, sizeof r16);
-      if (r16 >= max_rings) return ringError(i, r16);
-      store(i, readFloat32(rec + view.x.offset), readFloat32(rec + view.y.offset),
-            readFloat32(rec + view.z.offset), r16);
+      for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
+      {
+        std::uint16_t r16;
+        std::memcpy(&r16, view.data + i * view.point_step + view.ring.offset, sizeof r16);
+        if (r16 >= params.max_rings) return ringError(i, r16);
+      }
     }
   }
   else
@@ -243,17 +279,30 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
           if (r < 0 || r >= params.max_rings) return ringError(i, r);
           if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
         }
-        store(i, readCoord(rec, view.x), readCoord(rec, view.y), readCoord(rec, view.z), ring);
+        const double x = readCoord(rec, view.x), y = readCoord(rec, view.y), z = readCoord(rec, view.z);
+        const double range = std::sqrt(x * x + y * y + z * z);
+        const bool valid = range >= rmin && range <= rmax;  // NaN and inf fail both
+        prange_[i] = range;
+        paz_[i] = static_cast<float>(x);
+        tmp_f_[i] = static_cast<float>(y);
+        ring_of_[i] = valid ? ring : -1;
+        grid.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
+        grid.grid_pos[i] = -1;
       }
     }
   }
-  // Azimuths of every point at once, in a loop without branches or record reads that the
-  // compiler vectorizes (fastAtan2 was the largest cost of this function).
+  // Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
+  // increments would keep the loops above from vectorizing.
+  ring_count_.assign(static_cast<std::size_t>(params.max_rings) + 1, 0);
   {
-    float* const az = paz_.data();
-    const float* const ys = tmp_f_.data();
-    for (std::size_t i = 0; i < n; ++i) az[i] = fastAtan2(ys[i], az[i]);
+    std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
+    const std::int32_t* const ring = ring_of_.data();
+    for (std::size_t i = 0; i < n; ++i) ++count[ring[i]];
   }
+  int max_ring = -1;
+  for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
+    if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
+  azimuths(n, paz_.data(), tmp_f_.data());
   grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
   return Status::success();
 }
