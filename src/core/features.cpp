@@ -78,6 +78,54 @@ RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, c
   return large != 0;
 }
 
+// 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
+// (sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12).
+inline double invCount(double cnt) { return 1.0 / cnt; }
+inline double invTrend(double cnt) { return 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt); }
+
+// Smoothness of samples whose whole window lies in their run (w links free on each side): the
+// centred window of 2w + 1 samples and, detrended, the two one-sided ones of w + 1, from the
+// prefix sums S0 (rho), S1 (j rho), S2 (rho^2) over extended indices [0, E]. Samples near a gap
+// get values here too (their indices clamped into range), which the caller overwrites.
+inline double windowVariance(const double* S0, const double* S1, const double* S2, bool detrend, int lo, int hi,
+                             double inv_cnt, double inv_trend)
+{
+  const double s0 = S0[hi] - S0[lo], s1 = S1[hi] - S1[lo], s2 = S2[hi] - S2[lo];
+  const double mean = s0 * inv_cnt;
+  double v = s2 * inv_cnt - mean * mean;  // Eq 10
+  const double jbar = 0.5 * static_cast<double>(lo + hi - 1);
+  const double sjr = s1 - jbar * s0;            // sum (j - jbar) * rho
+  v = detrend ? v - sjr * sjr * inv_trend : v;  // remove the linear trend
+  return std::max(0.0, v);
+}
+
+RC_SIMD_CLONES void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, const double* __restrict S0,
+                                         const double* __restrict S1, const double* __restrict S2,
+                                         float* __restrict out)
+{
+  const double nc = 2.0 * w + 1.0, ns = w + 1.0;
+  const double ic = invCount(nc), it = invTrend(nc), ics = invCount(ns), its = invTrend(ns);
+  if (detrend && w + 1 >= 3)  // the centred and the two one-sided windows
+  {
+    for (int k = 0; k < K; ++k)
+    {
+      const int c0 = k + ext;
+      const int lo = std::max(c0 - w, 0), hi = std::min(c0 + w + 1, E), mid = std::min(c0 + 1, E);
+      double v = windowVariance(S0, S1, S2, true, lo, hi, ic, it);
+      v = std::min(v, windowVariance(S0, S1, S2, true, lo, mid, ics, its));
+      v = std::min(v, windowVariance(S0, S1, S2, true, c0, hi, ics, its));
+      out[k] = static_cast<float>(v);
+    }
+    return;
+  }
+  for (int k = 0; k < K; ++k)
+  {
+    const int c0 = k + ext;
+    const int lo = std::max(c0 - w, 0), hi = std::min(c0 + w + 1, E);
+    out[k] = static_cast<float>(windowVariance(S0, S1, S2, detrend, lo, hi, ic, it));
+  }
+}
+
 // Per-ring view with circular neighbour access limited to the current run.
 struct RingCtx
 {
@@ -391,8 +439,14 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     }
     return std::max(0.0, var);
   };
+  // Most samples lie w or more links from a gap on both sides: their windows have fixed sizes
+  // and offsets, computed for every sample by a straight loop that vectorizes. The loop below
+  // then redoes the rest, the samples near a gap, with their shorter windows. Same operations
+  // on the same values either way (the tables hold exactly 1.0 / cnt and the trend factor).
+  fullWindowSmoothness(static_cast<int>(K), w, ext, detrend, static_cast<int>(E), S0, S1, S2, out.smoothness.data() + b);
   for (std::uint32_t k = 0; k < K; ++k)
   {
+    if (L[k] >= w && Rr[k] >= w) continue;
     const int a = std::min(w, L[k]), z = std::min(w, Rr[k]);  // reach of the window, left / right
     const std::size_t c0 = k + static_cast<std::size_t>(ext);
     const std::size_t lo = c0 - static_cast<std::size_t>(a);
