@@ -373,18 +373,19 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     };
     // Each link once (a point shares its links with its neighbours): jump[k] is link (k-1, k),
     // NaN where there is none (in the scratch wy_).
+    // jump[K] repeats jump[0] (the seam's link, for a closed ring); the second loop is then
+    // straight-line and vectorizes. A missing link on the right reads as NaN, which max ignores.
     auto& jump = wy_;
-    jump.resize(K);
+    jump.resize(K + 1);
     for (std::uint32_t k = 0; k < K; ++k) jump[k] = L[k] >= 1 ? linkJump(k) : kNaN;
+    jump[K] = jump[0];
+    const float* const jl = jump.data();
+    float* const disc = out.discontinuity.data() + b;
     for (std::uint32_t k = 0; k < K; ++k)
     {
-      float d = L[k] >= 1 ? jump[k] : kNaN;
-      if (Rr[k] >= 1)
-      {
-        const float dn = jump[k + 1 == K ? 0 : k + 1];
-        d = std::isnan(d) ? dn : std::max(d, dn);
-      }
-      out.discontinuity[b + k] = d;
+      const float d = jl[k];  // NaN where L[k] == 0
+      const float dn = Rr[k] >= 1 ? jl[k + 1] : kNaN;
+      disc[k] = std::isnan(d) ? dn : std::max(d, dn);
     }
   }
 
