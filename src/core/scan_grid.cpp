@@ -73,6 +73,29 @@ RC_SIMD_CLONES std::uint32_t readXyzRing16(const std::uint8_t* __restrict data, 
   return max_read;
 }
 
+// One row of an organized float32 cloud, all on ring `ring`: as readXyzRing16, without a ring field.
+RC_SIMD_CLONES void readXyzRow(const std::uint8_t* __restrict data, std::size_t n, std::size_t step, std::size_t ox,
+                               std::size_t oy, std::size_t oz, std::int32_t ring, double rmin, double rmax,
+                               double* __restrict range_out, float* __restrict px, float* __restrict py,
+                               std::int32_t* __restrict ring_out, PointState* __restrict state,
+                               std::int32_t* __restrict grid_pos)
+{
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint8_t* const rec = data + i * step;
+    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
+    const double x = fx, y = fy, z = fz;
+    const double range = std::sqrt(x * x + y * y + z * z);
+    const bool valid = (range >= rmin) & (range <= rmax);
+    range_out[i] = range;
+    px[i] = fx;
+    py[i] = fy;
+    ring_out[i] = valid ? ring : -1;
+    state[i] = valid ? PointState::OnGrid : PointState::Invalid;
+    grid_pos[i] = -1;
+  }
+}
+
 // Grid coordinates from the input records in grid order (float32 widens to double exactly): a
 // gather, vectorized on AVX2.
 RC_SIMD_CLONES void gatherXyz(const std::uint8_t* __restrict data, std::size_t m, std::size_t step, std::size_t ox,
@@ -163,7 +186,8 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   const std::uint32_t* const index = grid.index.data();
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  if (fast && view.height == 1)
+  // (an organized cloud with dense rows is one run of records too: index * step finds them)
+  if (fast && (view.height == 1 || view.row_step == static_cast<std::size_t>(view.width) * view.point_step))
   {
     gatherXyz(view.data, m, view.point_step, static_cast<std::size_t>(view.x.offset),
               static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset), index,
@@ -264,6 +288,26 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
       }
     }
   }
+  else if (fast && view.organized())
+  {
+    // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
+    for (std::uint32_t row = 0; row < view.height; ++row)
+    {
+      const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
+      const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
+      readXyzRow(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
+                 static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
+                 static_cast<std::int32_t>(row), rmin, rmax, prange_.data() + i0, paz_.data() + i0, tmp_f_.data() + i0,
+                 ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
+      if (!view.ring.present()) continue;
+      const std::uint8_t* rec = data + view.ring.offset;
+      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+      {
+        const std::int64_t r = readInteger(rec, view.ring.type);
+        if (r < 0 || r >= params.max_rings) return ringError(i0 + col, r);
+      }
+    }
+  }
   else
   {
     for (std::uint32_t row = 0; row < view.height; ++row)
@@ -354,21 +398,31 @@ void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
   // Row = ring, column order = azimuth order: the sensor already gives the grid.
   const std::size_t R = view.height, W = view.width;
   grid.ring_begin.assign(R + 1, 0);
-  tmp_index_.clear();
-  sorted_az_.clear();
-  column_.clear();
+  // Branch-free compaction into presized arrays (NaN-padded sensors make validity a coin toss
+  // per point): every point is written at w, only valid ones advance it.
+  tmp_index_.resize(R * W + 1);
+  sorted_az_.resize(R * W + 1);
+  column_.resize(R * W + 1);
+  std::uint32_t* const index = tmp_index_.data();
+  float* const az = sorted_az_.data();
+  std::uint32_t* const column = column_.data();
+  const std::int32_t* const ring = ring_of_.data();
+  std::size_t w = 0;
   for (std::size_t r = 0; r < R; ++r)
   {
     for (std::size_t c = 0; c < W; ++c)
     {
       const std::size_t i = r * W + c;
-      if (ring_of_[i] < 0) continue;
-      tmp_index_.push_back(static_cast<std::uint32_t>(i));
-      sorted_az_.push_back(paz_[i]);
-      column_.push_back(static_cast<std::uint32_t>(c));
+      index[w] = static_cast<std::uint32_t>(i);
+      az[w] = paz_[i];
+      column[w] = static_cast<std::uint32_t>(c);
+      w += ring[i] >= 0 ? 1 : 0;
     }
-    grid.ring_begin[r + 1] = static_cast<std::uint32_t>(tmp_index_.size());
+    grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
   }
+  tmp_index_.resize(w);
+  sorted_az_.resize(w);
+  column_.resize(w);
 }
 
 void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
