@@ -58,6 +58,7 @@ struct PointCloudView
   bool organized() const { return height > 1; }
   const std::uint8_t* record(std::size_t i) const
   {
+    if (height == 1) return data + i * point_step;  // unorganized: no division per look-up
     return data + (i / width) * static_cast<std::size_t>(row_step) + (i % width) * point_step;
   }
 };

@@ -46,6 +46,8 @@ std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const Primitive
       !cloud.y.present() || !cloud.z.present())
     return pts;
   pts.reserve(prim.num_points);
+  const bool float32 = cloud.x.type == ScalarType::Float32 && cloud.y.type == ScalarType::Float32 &&
+                       cloud.z.type == ScalarType::Float32;
   for (std::size_t k = prim.first; k < end; ++k)
   {
     const std::uint32_t i = prims.indices[k];
@@ -54,9 +56,13 @@ std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const Primitive
     const std::uint8_t* rec = cloud.record(i);
     if (static_cast<std::size_t>(rec - cloud.data) + cloud.point_step > cloud.data_size)
       return {};
-    const Eigen::Vector3f p(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
-                            static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
-                            static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
+    // float32 (every driver) read inline: readScalar is a call and a switch per coordinate
+    const Eigen::Vector3f p =
+        float32 ? Eigen::Vector3f(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset),
+                                  readFloat32(rec + cloud.z.offset))
+                : Eigen::Vector3f(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
+                                  static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
+                                  static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
     if (p.allFinite())
       pts.push_back(p);
   }

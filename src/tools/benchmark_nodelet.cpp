@@ -5,8 +5,11 @@
 // PointCloud2 of a bag by shared pointer, with a subscriber on each of its five outputs so it
 // builds them all. One frame at a time: the time from publishing the input to the arrival of the
 // LAST output is "callback entry to last publish" plus two intra-process hand-offs (queue ->
-// manager thread, publish -> this process's spinner), so it bounds the callback from above.
-// The LAST line is key=value pairs: frames=… points=… nodelet_ms=… nodelet_p90_ms=…
+// manager thread, publish -> this process's spinner), so it bounds the callback from above. The
+// nodelet's own ~frame_stats gives the callback's time itself (entry to last publish, steady
+// clock) and its split into the core and the message building; those are reported too.
+// The LAST line is key=value pairs: frames=… points=… nodelet_ms=… nodelet_p90_ms=… callback_ms=…
+// callback_p90_ms=… core_ms=… messages_ms=…
 #include <nodelet/loader.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
@@ -15,6 +18,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "ring_curvature/FrameStats.h"
 #include "ring_curvature/PrimitiveArray.h"
 
 #include <chrono>
@@ -41,6 +45,15 @@ struct Arrivals
   std::condition_variable cv;
   int count = 0;
   Clock::time_point last;
+  bool have_stats = false;
+  ring_curvature::FrameStats stats;
+  void noteStats(const ring_curvature::FrameStats& s)
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    stats = s;
+    have_stats = true;
+    cv.notify_all();
+  }
   void note()
   {
     const auto now = Clock::now();
@@ -141,6 +154,10 @@ int main(int argc, char** argv)
   subs.push_back(nh.subscribe<sensor_msgs::PointCloud2>(name + "/planes", 1, on_cloud));
   subs.push_back(nh.subscribe<visualization_msgs::MarkerArray>(name + "/markers", 1, on_markers));
   const int num_outputs = static_cast<int>(subs.size());
+  // not an output: published after them, with the callback's own timing
+  const boost::function<void(const ring_curvature::FrameStatsConstPtr&)> on_stats =
+      [&arrivals](const ring_curvature::FrameStatsConstPtr& s) { arrivals.noteStats(*s); };
+  subs.push_back(nh.subscribe<ring_curvature::FrameStats>(name + "/frame_stats", 1, on_stats));
   ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>("velodyne_points", 1);
   const auto deadline = Clock::now() + std::chrono::seconds(10);
   while (pub.getNumSubscribers() == 0 && Clock::now() < deadline)
@@ -151,7 +168,7 @@ int main(int argc, char** argv)
     return 1;
   }
 
-  std::vector<double> latency;
+  std::vector<double> latency, callback, core, messages;
   int lost = 0;
   for (int r = -1; r < repeat; ++r)  // r = -1: untimed warm-up pass
   {
@@ -161,17 +178,26 @@ int main(int argc, char** argv)
       {
         std::lock_guard<std::mutex> lock(arrivals.mutex);
         arrivals.count = 0;
+        arrivals.have_stats = false;
       }
       t0 = Clock::now();
       pub.publish(c);
       std::unique_lock<std::mutex> lock(arrivals.mutex);
-      if (!arrivals.cv.wait_for(lock, std::chrono::seconds(5), [&] { return arrivals.count >= num_outputs; }))
+      if (!arrivals.cv.wait_for(lock, std::chrono::seconds(5),
+                                [&] { return arrivals.count >= num_outputs && arrivals.have_stats; }))
       {
         ++lost;
         continue;
       }
       if (r >= 0)
+      {
+        const ring_curvature::FrameStats& st = arrivals.stats;
         latency.push_back(std::chrono::duration<double, std::milli>(arrivals.last - t0).count());
+        callback.push_back(st.callback_ms);
+        core.push_back(st.grid_ms + st.features_ms + st.thresholds_ms + st.classification_ms + st.primitives_ms +
+                       st.core_output_ms);
+        messages.push_back(st.messages_ms);
+      }
     }
   }
   loader.unload(name);
@@ -188,8 +214,17 @@ int main(int argc, char** argv)
   std::printf("  publish -> last output [ms]: median %.3f, p90 %.3f, max %.3f\n",
               ring_curvature::bench::median(latency), ring_curvature::bench::quantile(latency, 0.9),
               ring_curvature::bench::quantile(latency, 1.0));
-  std::printf("frames=%zu points=%.0f nodelet_ms=%.4f nodelet_p90_ms=%.4f\n", clouds.size(), mean_points,
-              ring_curvature::bench::median(latency), ring_curvature::bench::quantile(latency, 0.9));
+  std::printf("  callback entry -> last publish [ms] (~frame_stats): median %.3f, p90 %.3f, max %.3f\n",
+              ring_curvature::bench::median(callback), ring_curvature::bench::quantile(callback, 0.9),
+              ring_curvature::bench::quantile(callback, 1.0));
+  std::printf("    of which core (grid .. output) median %.3f, output messages median %.3f\n",
+              ring_curvature::bench::median(core), ring_curvature::bench::median(messages));
+  std::printf("frames=%zu points=%.0f nodelet_ms=%.4f nodelet_p90_ms=%.4f callback_ms=%.4f callback_p90_ms=%.4f "
+              "core_ms=%.4f messages_ms=%.4f\n",
+              clouds.size(), mean_points, ring_curvature::bench::median(latency),
+              ring_curvature::bench::quantile(latency, 0.9), ring_curvature::bench::median(callback),
+              ring_curvature::bench::quantile(callback, 0.9), ring_curvature::bench::median(core),
+              ring_curvature::bench::median(messages));
   ros::shutdown();
   return lost == 0 ? 0 : 1;
 }
