@@ -69,8 +69,14 @@ public:
 private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
+  /// How a ring arrived, in firing order: steps down in azimuth, and its largest drop and rise.
+  struct RingOrder
+  {
+    std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
+    float drop = -3.14159265358979f, rise = 3.14159265358979f, prev = 0.0f;
+  };
   void sortRings(ScanGrid& grid);  // ring_sort.cpp
-  void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
+  void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k, const RingOrder& order);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);
   void removeDuplicates(const Params& params, ScanGrid& grid);
@@ -87,6 +93,7 @@ private:
   std::vector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
   std::vector<float> sorted_az_;          // and its azimuth
   std::vector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
+  std::vector<RingOrder> ring_order_;
   std::vector<float> tmp_f_;
   std::vector<double> elev_sum_;
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position

@@ -44,15 +44,42 @@ void ScanGridBuilder::sortRings(ScanGrid& grid)
   bin_start_.assign(grid.ring_begin.begin(), grid.ring_begin.end());
   std::uint32_t* const next = bin_start_.data();
   std::uint64_t* const unsorted = keys_tmp_.data();
+  // The same pass follows each ring in firing order for sortRing: how often it steps down in
+  // azimuth, and where its largest drop and rise are (the seam, read forwards or backwards).
+  ring_order_.assign(R, RingOrder{});
+  RingOrder* const order = ring_order_.data();
   for (std::size_t i = 0; i < n; ++i)
-    if (ring_of_[i] >= 0) unsorted[next[ring_of_[i]]++] = sortKey(paz_[i], static_cast<std::uint32_t>(i));
+  {
+    const std::int32_t r = ring_of_[i];
+    if (r < 0) continue;
+    const float az = paz_[i];
+    RingOrder& o = order[r];
+    const std::uint32_t j = next[r] - grid.ring_begin[static_cast<std::size_t>(r)];  // position in the ring
+    const float d = az - o.prev;
+    o.prev = az;
+    if (j > 0)
+    {
+      o.down += d < 0.0f ? 1u : 0u;
+      if (d < o.drop)
+      {
+        o.drop = d;
+        o.wrap_fwd = j;
+      }
+      if (d > o.rise)
+      {
+        o.rise = d;
+        o.wrap_bwd = j;
+      }
+    }
+    unsorted[next[r]++] = sortKey(az, static_cast<std::uint32_t>(i));
+  }
 
   // 2) per ring, order the keys: (azimuth, input index) is a strict total order, so the result
   //    depends neither on the order the points came in nor on which sort finishes the ring.
   for (std::size_t r = 0; r < R; ++r)
   {
     const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
-    sortRing(unsorted + b, keys_.data() + b, e - b);
+    sortRing(unsorted + b, keys_.data() + b, e - b, ring_order_[r]);
   }
   tmp_index_.resize(m);
   sorted_az_.resize(m);
@@ -63,7 +90,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid)
   }
 }
 
-void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
+void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k, const RingOrder& o)
 {
   if (k < 2)
   {
@@ -76,29 +103,10 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
   // ring is nearly sorted and an insertion sort finishes it in about linear time; a move budget
   // hands anything else to the bucket sort below, so no frame goes quadratic.
   {
-    // One pass finds the direction and the seam both ways round: a step down by more than pi
-    // read forwards is a step up by more than pi read backwards. (Any choice of seam gives the
-    // same final order; it only decides how much the insertion sort has to move.)
-    std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
-    float drop = -kPi, rise = kPi;
-    float prev = keyAzimuth(src[0]);
-    for (std::uint32_t j = 1; j < k; ++j)
-    {
-      const float az = keyAzimuth(src[j]);
-      const float d = az - prev;
-      prev = az;
-      down += d < 0.0f ? 1u : 0u;
-      if (d < drop)
-      {
-        drop = d;
-        wrap_fwd = j;
-      }
-      if (d > rise)
-      {
-        rise = d;
-        wrap_bwd = j;
-      }
-    }
+    // The seam both ways round (`o`, from the scatter): a step down by more than pi read
+    // forwards is a step up by more than pi read backwards. (Any choice of seam gives the same
+    // final order; it only decides how much the insertion sort has to move.)
+    const std::uint32_t down = o.down, wrap_fwd = o.wrap_fwd, wrap_bwd = o.wrap_bwd;
     const std::size_t budget = 8 * static_cast<std::size_t>(k);
     std::size_t moves = 0;
     std::uint32_t j = 0;  // keys placed so far
