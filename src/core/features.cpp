@@ -78,6 +78,37 @@ RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, c
   return large != 0;
 }
 
+// Chord mode: samples per half chord, for a chord of `chord` metres at each range (sample
+// spacing ~ rho cos(phi) dtheta), between 1 and max_h. The ceil is by
+// truncation (exact: the quotient lies in (0, 2.5e5]), which vectorizes, where SSE2 has no
+// rounding instruction and std::ceil stayed a call per sample.
+RC_SIMD_CLONES void chordSamples(int K, const double* __restrict rho, double cos_phi, double dtheta, float chord,
+                                 int max_h, int* __restrict H)
+{
+  for (int k = 0; k < K; ++k)
+  {
+    const double spacing = rho[k] * cos_phi * dtheta;
+    const double q = chord / (spacing > 1e-6 ? spacing : 1e-6);  // NaN-safe
+    const int t = static_cast<int>(q);
+    H[k] = std::clamp(t + (static_cast<double>(t) < q ? 1 : 0), 1, max_h);
+  }
+}
+
+// Discontinuity of each sample: the larger of its two links' jumps (jump[k] is link (k-1, k),
+// NaN where there is none; jump[K] repeats jump[0] for the seam). NaN only when both are.
+RC_SIMD_CLONES void largerLink(int K, const int* __restrict R, const float* __restrict jump, float* __restrict disc)
+{
+  constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
+  for (int k = 0; k < K; ++k)
+  {
+    const float d = jump[k];
+    const float next = jump[k + 1];  // loaded unconditionally (jump has K + 1 entries): no branch
+    const float dn = R[k] >= 1 ? next : kNaNf;
+    const float larger = d < dn ? dn : d;  // std::max(d, dn), as values (it returns a reference)
+    disc[k] = d != d ? dn : larger;        // d is NaN: the other link alone
+  }
+}
+
 // 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
 // (sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12).
 inline double invCount(double cnt) { return 1.0 / cnt; }
@@ -264,17 +295,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   double* U2 = V2 + K;
   if (P.curvature_mode == CurvatureMode::Chord)
   {
-    const int max_h = P.max_chord_samples;  // a local: H's int stores might alias P's ints
-    for (std::uint32_t k = 0; k < K; ++k)
-    {
-      // Samples needed for a chord of `chord` metres at this range (spacing ~ rho cos(phi) dtheta).
-      const double spacing = rho[k] * cone_cos * res;
-      // ceil by truncation (exact: q lies in (0, 2.5e5]), which the compiler vectorizes, where
-      // SSE2 has no rounding instruction and std::ceil stayed a call per sample.
-      const double q = chord / (spacing > 1e-6 ? spacing : 1e-6);  // NaN-safe
-      const int t = static_cast<int>(q);
-      H[k] = std::clamp(t + (static_cast<double>(t) < q ? 1 : 0), 1, max_h);
-    }
+    chordSamples(static_cast<int>(K), rho, cone_cos, res, chord, P.max_chord_samples, H);
   }
   if (!exact)
   {
@@ -379,14 +400,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     jump.resize(K + 1);
     for (std::uint32_t k = 0; k < K; ++k) jump[k] = L[k] >= 1 ? linkJump(k) : kNaN;
     jump[K] = jump[0];
-    const float* const jl = jump.data();
-    float* const disc = out.discontinuity.data() + b;
-    for (std::uint32_t k = 0; k < K; ++k)
-    {
-      const float d = jl[k];  // NaN where L[k] == 0
-      const float dn = Rr[k] >= 1 ? jl[k + 1] : kNaN;
-      disc[k] = std::isnan(d) ? dn : std::max(d, dn);
-    }
+    largerLink(static_cast<int>(K), Rr, jump.data(), out.discontinuity.data() + b);
   }
 
   // Smoothness over a window of +-w samples, via prefix sums over the ring (extended by w on
