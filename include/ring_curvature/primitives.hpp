@@ -42,14 +42,19 @@ public:
                PrimitiveSet& out);
 
 private:
-  std::uint32_t find(std::uint32_t a);
-  void unite(std::uint32_t a, std::uint32_t b);
-  std::vector<std::uint32_t> parent_;
-  std::vector<std::uint16_t> ring_of_pos_;
-  std::vector<std::int32_t> root_to_prim_;
-  std::vector<std::uint32_t> fill_;
-  std::vector<Eigen::Matrix3d> cov_;    // second moments per primitive (reused across frames)
-  std::vector<Eigen::Vector3d> centre_; // centroid per primitive, as double
+  /// A maximal stretch [begin, end) of one ring whose neighbours all unite (Eq 19-20, same
+  /// wanted label): one component without any union-find work per point.
+  struct Run
+  {
+    std::uint32_t begin, end;
+  };
+  std::vector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
+  std::vector<std::uint32_t> run_;      // start of the run of each grid position
+  std::vector<Run> runs_;               // the runs of wanted labels, in grid order
+  std::vector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
+  std::vector<std::uint32_t> roots_;    // the roots, in grid order
+  std::vector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
+  std::vector<Eigen::Array4f> point_;    // float x y z of each grid position in a primitive
 };
 
 }  // namespace ring_curvature

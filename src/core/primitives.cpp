@@ -17,28 +17,26 @@ inline float angDiff(float a, float b)
   float d = std::fabs(a - b);
   return d > kPi ? 2 * kPi - d : d;
 }
-}  // namespace
 
-// inline: only extract() calls these, and out of line each call went through the shared
-// library's PLT (perf showed find@plt).
-inline std::uint32_t PrimitiveExtractor::find(std::uint32_t a)
+inline std::uint32_t find(std::uint32_t* parent, std::uint32_t a)
 {
-  while (parent_[a] != a)
+  while (parent[a] != a)
   {
-    parent_[a] = parent_[parent_[a]];  // path halving
-    a = parent_[a];
+    parent[a] = parent[parent[a]];  // path halving
+    a = parent[a];
   }
   return a;
 }
 
-inline void PrimitiveExtractor::unite(std::uint32_t a, std::uint32_t b)
+inline void unite(std::uint32_t* parent, std::uint32_t a, std::uint32_t b)
 {
-  a = find(a);
-  b = find(b);
+  a = find(parent, a);
+  b = find(parent, b);
   if (a == b) return;
   if (a < b) std::swap(a, b);
-  parent_[a] = b;  // the smaller position is the root: components are numbered in scan order
+  parent[a] = b;  // the smaller position is the root: components are numbered in scan order
 }
+}  // namespace
 
 void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& labels, const Params& P,
                                  PrimitiveSet& out)
@@ -46,13 +44,12 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const std::size_t m = g.size();
   out.primitives.clear();
   out.indices.clear();
-  out.of_grid.assign(m, -1);
+  out.of_grid.resize(m);  // every entry is written below
   parent_.resize(m);
-  for (std::size_t p = 0; p < m; ++p) parent_[p] = static_cast<std::uint32_t>(p);
-  ring_of_pos_.resize(m);
-  for (int n = 0; n < g.num_rings; ++n)
-    std::fill(ring_of_pos_.begin() + g.ring_begin[static_cast<std::size_t>(n)],
-              ring_of_pos_.begin() + g.ring_begin[static_cast<std::size_t>(n) + 1], static_cast<std::uint16_t>(n));
+  run_.resize(m);
+  runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
+  comp_.resize(m);
+  roots_.resize(m);
 
   // a table: this is asked once or more per grid position in every loop below
   const bool want[kNumLabels] = {false, true, true, true, P.rough_primitives};
@@ -63,173 +60,244 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const float az_tol = P.proximity_azimuth_factor * g.azimuth_resolution;  // Eq 19
   // Raw pointers and parameters in locals, read once: through the vectors and P the compiler
   // reloaded data pointers and parameters inside the loops below (perf annotate), as it may not
-  // prove that the stores to parent_ / fill_ / the primitives leave them unchanged.
+  // prove that the stores to parent_ / the primitives leave them unchanged.
+  const std::uint32_t* const ring_begin = g.ring_begin.data();
   const double* const range = g.range.data();
   const float* const azimuth = g.azimuth.data();
   const Label* const lab = labels.data();
   const std::uint8_t* const linked = g.linked.data();
+  const std::int32_t* const up = g.up.empty() ? nullptr : g.up.data();
+  const std::int32_t* const grid_pos = g.grid_pos.data();
+  const bool organized = g.organized;
   const double range_ratio = P.proximity_range_ratio;
   const double range_min = static_cast<double>(P.proximity_range_min);
   auto close = [&](std::uint32_t a, std::uint32_t b, bool check_azimuth) {
     const double ra = range[a], rb = range[b];
     const double rho_tol = std::max(range_ratio * 0.5 * (ra + rb), range_min);  // Eq 20
-    if (std::fabs(ra - rb) > rho_tol) return false;
-    return !check_azimuth || angDiff(azimuth[a], azimuth[b]) <= az_tol;
+    // & rather than &&: both tests are cheap, and a branch on each was a misprediction hot spot
+    const bool in_range = !(std::fabs(ra - rb) > rho_tol);
+    const bool in_azimuth = !check_azimuth || angDiff(azimuth[a], azimuth[b]) <= az_tol;
+    return in_range & in_azimuth;
   };
 
+  // Unions. Most angular neighbours unite, so each ring is first cut into runs (see Run): a
+  // position joins its predecessor's run with a store instead of two find() calls. Only the
+  // run starts enter the union-find forest, so its chains hold run starts only. Ring n is cut
+  // before the vertical unions of ring n-1 reach into it (up[] of ring n-1 points into ring n).
+  std::uint32_t* const parent = parent_.data();
+  std::uint32_t* const run = run_.data();
+  Run* const runs = runs_.data();
+  std::size_t num_runs = 0;
   for (int n = 0; n < g.num_rings; ++n)
   {
-    const std::uint32_t b = g.ring_begin[static_cast<std::size_t>(n)], e = g.ring_begin[static_cast<std::size_t>(n) + 1];
+    const std::uint32_t b = ring_begin[n], e = ring_begin[n + 1];
+    std::uint32_t s = b;  // start of the current run
+    bool s_wanted = false;
     for (std::uint32_t p = b; p < e; ++p)
     {
       const Label l = lab[p];
-      if (!wanted(l)) continue;
-      // angular neighbour (n, k+1 mod K)
-      const std::uint32_t nx = p + 1 < e ? p + 1 : b;
-      if (nx != p && linked[nx] && lab[nx] == l && close(p, nx, true)) unite(p, nx);
-      // vertical neighbour (n+1, k): the nearest sample in azimuth, or one beside it, within Eq 19
-      const std::int32_t u = g.up.empty() ? -1 : g.up[p];
-      if (u < 0) continue;
-      const std::uint32_t uu = static_cast<std::uint32_t>(u);
-      const std::uint32_t ub = g.ring_begin[static_cast<std::size_t>(n) + 1], ue = g.ring_begin[static_cast<std::size_t>(n) + 2];
-      const std::uint32_t cand[3] = {uu, uu > ub ? uu - 1 : ue - 1, uu + 1 < ue ? uu + 1 : ub};
-      for (std::uint32_t q : cand)
+      // angular neighbour (n, k-1): the same test as from (n, k-1) to (n, k), which it is
+      const bool join = p > b && (wanted(l) & (linked[p] != 0) & (lab[p - 1] == l) & close(p - 1, p, true));
+      if (!join)
       {
-        // organized clouds: a column is one firing, beams may have their own azimuth offsets
-        if (lab[q] == l && close(p, q, !g.organized || q != uu))
+        if (s_wanted) runs[num_runs++] = {s, p};
+        s = p;
+        s_wanted = wanted(l);
+        parent[p] = p;
+      }
+      run[p] = s;
+    }
+    if (s_wanted) runs[num_runs++] = {s, e};
+    // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
+    if (e - b >= 2)
+    {
+      const Label l = lab[e - 1];
+      if (wanted(l) && linked[b] && lab[b] == l && close(e - 1, b, true)) parent[run[e - 1]] = b;
+    }
+    if (n == 0 || up == nullptr) continue;
+    // vertical neighbours of ring n-1 in ring n: the nearest sample in azimuth, or one beside
+    // it, within Eq 19
+    // Neighbouring runs meet many times over: the last pair of runs united is remembered, and
+    // the same pair again needs no find().
+    auto last_rp = static_cast<std::uint32_t>(m), last_rq = last_rp;  // no run starts at m
+    for (std::uint32_t p = ring_begin[n - 1]; p < b; ++p)
+    {
+      const Label l = lab[p];
+      if (!wanted(l) || up[p] < 0) continue;
+      const auto uu = static_cast<std::uint32_t>(up[p]);
+      // organized clouds: a column is one firing, beams may have their own azimuth offsets
+      std::uint32_t q = uu;
+      if (!((lab[q] == l) && close(p, q, !organized)))
+      {
+        q = uu > b ? uu - 1 : e - 1;
+        if (!((lab[q] == l) && close(p, q, true)))
         {
-          unite(p, q);
-          break;
+          q = uu + 1 < e ? uu + 1 : b;
+          if (!((lab[q] == l) && close(p, q, true))) continue;
         }
+      }
+      const std::uint32_t rp = run[p], rq = run[q];
+      if (rp != last_rp || rq != last_rq)
+      {
+        unite(parent, rp, rq);
+        last_rp = rp;
+        last_rq = rq;
+      }
+      // The next positions of the same run whose candidates all lie in rq's run (no seam
+      // between them) can only unite what is united now: skip them untested.
+      while (p + 1 < b && run[p + 1] == rp)
+      {
+        const std::int32_t u = up[p + 1];
+        if (u <= static_cast<std::int32_t>(b) || u + 1 >= static_cast<std::int32_t>(e)) break;
+        if (run[u - 1] != rq || run[u + 1] != rq) break;  // a run is contiguous: run[u] is rq too
+        ++p;
       }
     }
   }
 
-  // A root is the smallest position of its component (see unite) and path halving keeps
-  // parent_[p] <= p, so one forward pass points every position straight at its root: the
-  // look-ups below are then a load instead of a find() each.
-  // Component sizes (in the same pass), then ids for the large-enough ones in scan order.
-  fill_.assign(m, 0);  // size per root
-  std::uint32_t* const parent = parent_.data();  // raw pointers: see `range` above
-  std::uint32_t* const fill = fill_.data();
-  const std::int32_t* const grid_pos = g.grid_pos.data();
-  for (std::size_t p = 0; p < m; ++p)
+  // Component sizes, run by run. A root is the smallest position of its component (see unite),
+  // so it is the start of the component's first run, and path halving keeps parent[s] <= s:
+  // in grid order, parent[parent[s]] is already the root, and is stored back for the look-ups
+  // below. Roots are listed as they come, i.e. in scan order.
+  std::int32_t* const comp = comp_.data();
+  std::uint32_t* const roots = roots_.data();
+  std::size_t num_roots = 0;
+  for (std::size_t k = 0; k < num_runs; ++k)
   {
-    parent[p] = parent[parent[p]];
-    if (wanted(lab[p])) ++fill[parent[p]];
+    const std::uint32_t s = runs[k].begin;
+    const std::uint32_t r = parent[parent[s]];
+    parent[s] = r;
+    const auto len = static_cast<std::int32_t>(runs[k].end - s);
+    if (r == s)
+    {
+      comp[s] = len;
+      roots[num_roots++] = s;
+    }
+    else
+    {
+      comp[r] += len;
+    }
   }
   // duplicates (same firing, same range) join their representative's primitive
   for (const std::uint32_t i : g.duplicates)
-    if (wanted(lab[static_cast<std::size_t>(grid_pos[i])])) ++fill[parent[static_cast<std::size_t>(grid_pos[i])]];
-  std::uint32_t total = 0;
-  // root_to_prim_ is only read at the roots of wanted positions, so only those are written
-  root_to_prim_.resize(m);
-  for (std::size_t p = 0; p < m; ++p)
   {
-    if (!wanted(labels[p]) || parent_[p] != p) continue;
-    if (fill_[p] < static_cast<std::uint32_t>(P.min_primitive_points))
+    const auto pos = static_cast<std::size_t>(grid_pos[i]);
+    if (wanted(lab[pos])) ++comp[parent[run[pos]]];
+  }
+  // ids for the large-enough components, in scan order; comp becomes the id at each root
+  std::uint32_t total = 0;
+  for (std::size_t k = 0; k < num_roots; ++k)
+  {
+    const std::uint32_t r = roots[k];
+    const auto size = static_cast<std::uint32_t>(comp[r]);
+    if (size < static_cast<std::uint32_t>(P.min_primitive_points))
     {
-      root_to_prim_[p] = -1;
+      comp[r] = -1;
       continue;
     }
     PrimitiveInfo prim;
     prim.id = static_cast<std::uint32_t>(out.primitives.size());
-    prim.label = labels[p];
+    prim.label = lab[r];
     prim.first = total;
-    total += fill_[p];
-    root_to_prim_[p] = static_cast<std::int32_t>(prim.id);
+    total += size;
+    comp[r] = static_cast<std::int32_t>(prim.id);
     out.primitives.push_back(prim);
   }
   out.indices.resize(total);
-  for (auto& prim : out.primitives) prim.num_points = 0;  // used as the fill cursor below
 
+  // Indices, run by run: a run is a block of consecutive positions and input indices. Each
+  // entry of `indices` also gets its grid position (slot_pos_), so that the sums below walk a
+  // primitive's points in the order of its indices with sequential reads and register sums.
+  // The float coordinates of the points are made here once, x y z in one Array4f, for the
+  // box and centroid below (a duplicate reads its representative's).
+  slot_pos_.resize(total);
+  point_.resize(m);
   PrimitiveInfo* const prims = out.primitives.data();
   std::uint32_t* const indices = out.indices.data();
-  const std::uint16_t* const ring_of_pos = ring_of_pos_.data();
+  std::uint32_t* const slot_pos = slot_pos_.data();
+  std::int32_t* const of_grid = out.of_grid.data();
+  const std::uint32_t* const index = g.index.data();
   const double* const gx = g.x.data();
   const double* const gy = g.y.data();
   const double* const gz = g.z.data();
-  auto addPoint = [&](std::int32_t id, std::uint32_t input_index, std::uint32_t pos) {
-    PrimitiveInfo& pr = prims[static_cast<std::size_t>(id)];
-    indices[pr.first + pr.num_points++] = input_index;
-    const Eigen::Vector3f v(static_cast<float>(gx[pos]), static_cast<float>(gy[pos]), static_cast<float>(gz[pos]));
-    if (pr.num_points == 1)
-    {
-      pr.bbox_min = pr.bbox_max = v;
-      pr.ring_min = pr.ring_max = ring_of_pos[pos];
-    }
-    else
-    {
-      pr.bbox_min = pr.bbox_min.cwiseMin(v);
-      pr.bbox_max = pr.bbox_max.cwiseMax(v);
-      pr.ring_min = std::min(pr.ring_min, ring_of_pos[pos]);
-      pr.ring_max = std::max(pr.ring_max, ring_of_pos[pos]);
-    }
-    pr.centroid += v;  // sum for now
-  };
+  Eigen::Array4f* const point = point_.data();
   {
-    const std::int32_t* const root_to_prim = root_to_prim_.data();
-    std::int32_t* const of_grid_out = out.of_grid.data();
-    const std::uint32_t* const index = g.index.data();
-    for (std::size_t p = 0; p < m; ++p)
+    std::uint32_t written = 0;  // of_grid is written up to here
+    int n = 0;
+    for (std::size_t k = 0; k < num_runs; ++k)
     {
-      if (!wanted(lab[p])) continue;
-      const std::int32_t id = root_to_prim[parent[p]];
-      of_grid_out[p] = id;
-      if (id >= 0) addPoint(id, index[p], static_cast<std::uint32_t>(p));
+      const std::uint32_t s = runs[k].begin, t = runs[k].end;
+      const std::int32_t id = comp[parent[s]];
+      if (id < 0) continue;  // left to the -1 fill of the next run or the end
+      std::fill(of_grid + written, of_grid + s, -1);
+      std::fill(of_grid + s, of_grid + t, id);
+      written = t;
+      while (s >= ring_begin[n + 1]) ++n;
+      PrimitiveInfo& pr = prims[id];
+      // runs come in grid order, so in ring order: the first one has the lowest ring
+      if (pr.num_points == 0) pr.ring_min = static_cast<std::uint16_t>(n);
+      pr.ring_max = static_cast<std::uint16_t>(n);
+      const std::uint32_t slot = pr.first + pr.num_points;
+      pr.num_points += t - s;
+      std::copy(index + s, index + t, indices + slot);
+      for (std::uint32_t p = s; p < t; ++p)
+      {
+        slot_pos[slot + (p - s)] = p;
+        point[p] = Eigen::Array4f(static_cast<float>(gx[p]), static_cast<float>(gy[p]), static_cast<float>(gz[p]), 0.0f);
+      }
     }
-    for (const std::uint32_t i : g.duplicates)
-    {
-      const std::int32_t id = of_grid_out[static_cast<std::size_t>(grid_pos[i])];
-      if (id >= 0) addPoint(id, i, static_cast<std::uint32_t>(grid_pos[i]));
-    }
+    std::fill(of_grid + written, of_grid + m, -1);
   }
-  for (auto& pr : out.primitives) pr.centroid /= static_cast<float>(pr.num_points);
-
-  // Second moments about the centroids, accumulated in grid order (a sequential read) rather
-  // than primitive by primitive through `indices` (a random read per point). Each primitive
-  // still sums its points in the order of its indices (grid order, then duplicates in input
-  // order), so the sums are bit for bit the same.
-  cov_.resize(out.primitives.size());
-  centre_.resize(out.primitives.size());
-  for (std::size_t j = 0; j < out.primitives.size(); ++j)
-  {
-    cov_[j].setZero();
-    centre_[j] = out.primitives[j].centroid.cast<double>();
-  }
-  // Only the lower triangle is summed: the outer product d d^T is symmetric (d_i d_j and d_j d_i
-  // are the same double), so the upper triangle is a copy of it, made once per primitive below
-  // instead of three more multiply-adds per point. The entries are bit for bit those of
-  // `cov += d * d.transpose()`.
-  const std::int32_t* const of_grid = out.of_grid.data();
-  Eigen::Matrix3d* const cov_data = cov_.data();
-  const Eigen::Vector3d* const centre_data = centre_.data();
-  auto addMoment = [&](std::int32_t id, std::size_t pos) {
-    const Eigen::Vector3d& c = centre_data[static_cast<std::size_t>(id)];
-    const double dx = gx[pos] - c.x(), dy = gy[pos] - c.y(), dz = gz[pos] - c.z();
-    Eigen::Matrix3d& M = cov_data[static_cast<std::size_t>(id)];
-    M(0, 0) += dx * dx;
-    M(1, 0) += dy * dx;
-    M(2, 0) += dz * dx;
-    M(1, 1) += dy * dy;
-    M(2, 1) += dz * dy;
-    M(2, 2) += dz * dz;
-  };
-  for (std::size_t p = 0; p < m; ++p)
-    if (of_grid[p] >= 0) addMoment(of_grid[p], p);
+  // duplicates after the grid points, in input order
   for (const std::uint32_t i : g.duplicates)
   {
-    const auto pos = static_cast<std::size_t>(g.grid_pos[i]);
-    if (of_grid[pos] >= 0) addMoment(of_grid[pos], pos);
+    const auto pos = static_cast<std::uint32_t>(grid_pos[i]);
+    const std::int32_t id = of_grid[pos];
+    if (id < 0) continue;
+    PrimitiveInfo& pr = prims[id];
+    const std::uint32_t slot = pr.first + pr.num_points++;
+    indices[slot] = i;
+    slot_pos[slot] = pos;
   }
+
+  // Box, centroid, moments and axes, primitive by primitive. All sums run over the points in
+  // the order of the primitive's indices, one point at a time, so they are bit for bit those
+  // of the per-point accumulation they replace:
+  // - box and centroid sum in float, x y z in the lanes of one Array4f: lane by lane the same
+  //   operations as the per-point Eigen code (Eigen's packet min(a, b) is std::min(a, b), as
+  //   its scalar cwiseMin). The first point starts the box; a duplicate repeats an earlier
+  //   point's coordinates, so it leaves the box as it is.
+  // - second moments about the float centroid cast to double. Only the lower triangle is
+  //   summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the upper
+  //   triangle is a copy of it, made once per primitive.
   for (auto& pr : out.primitives)
   {
-    Eigen::Matrix3d& cov = cov_[pr.id];
-    cov(0, 1) = cov(1, 0);
-    cov(0, 2) = cov(2, 0);
-    cov(1, 2) = cov(2, 1);
-    const Eigen::Vector3d& c = centre_[pr.id];
-    cov /= static_cast<double>(pr.num_points);
+    const std::uint32_t* const sp = slot_pos + pr.first;
+    const std::uint32_t np = pr.num_points;
+    Eigen::Array4f lo = point[sp[0]], hi = lo, sum = Eigen::Array4f::Zero();
+    for (std::uint32_t k = 0; k < np; ++k)
+    {
+      const Eigen::Array4f& v = point[sp[k]];
+      lo = lo.min(v);
+      hi = hi.max(v);
+      sum += v;
+    }
+    pr.bbox_min = lo.head<3>();
+    pr.bbox_max = hi.head<3>();
+    pr.centroid = sum.head<3>();
+    pr.centroid /= static_cast<float>(np);
+    const Eigen::Vector3d c = pr.centroid.cast<double>();
+    double m00 = 0, m10 = 0, m20 = 0, m11 = 0, m21 = 0, m22 = 0;
+    for (std::uint32_t k = 0; k < np; ++k)
+    {
+      const std::uint32_t p = sp[k];
+      const double dx = gx[p] - c.x(), dy = gy[p] - c.y(), dz = gz[p] - c.z();
+      m00 += dx * dx, m10 += dy * dx, m20 += dz * dx;
+      m11 += dy * dy, m21 += dz * dy, m22 += dz * dz;
+    }
+    Eigen::Matrix3d cov;
+    cov << m00, m10, m20, m10, m11, m21, m20, m21, m22;
+    cov /= static_cast<double>(np);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);
     const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
