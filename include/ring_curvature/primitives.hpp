@@ -47,12 +47,15 @@ private:
   struct Run
   {
     std::uint32_t begin, end;
+    std::uint32_t rank;  ///< points of its component before it (grid order)
   };
   std::vector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
   std::vector<std::uint32_t> run_;      // start of the run of each grid position
   std::vector<Run> runs_;               // the runs of wanted labels, in grid order
   std::vector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
   std::vector<std::uint32_t> roots_;    // the roots, in grid order
+  std::vector<std::uint32_t> dup_root_; // root of each duplicate's component, or m
+  std::vector<std::uint32_t> dup_rank_; // points of that component before the duplicate
   std::vector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
   std::vector<Eigen::Array4f> point_;    // float x y z of each grid position in a primitive
 };

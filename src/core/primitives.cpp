@@ -44,11 +44,11 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const std::size_t m = g.size();
   out.primitives.clear();
   out.indices.clear();
-  out.of_grid.resize(m);  // every entry is written below
+  out.of_grid.assign(m, -1);
   parent_.resize(m);
   run_.resize(m);
   runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
-  comp_.resize(m);
+  comp_.resize(m + 1);  // comp_[m]: the component of no position (see dup_root_)
   roots_.resize(m);
 
   // a table: this is asked once or more per grid position in every loop below
@@ -74,10 +74,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   auto close = [&](std::uint32_t a, std::uint32_t b, bool check_azimuth) {
     const double ra = range[a], rb = range[b];
     const double rho_tol = std::max(range_ratio * 0.5 * (ra + rb), range_min);  // Eq 20
-    // & rather than &&: both tests are cheap, and a branch on each was a misprediction hot spot
-    const bool in_range = !(std::fabs(ra - rb) > rho_tol);
-    const bool in_azimuth = !check_azimuth || angDiff(azimuth[a], azimuth[b]) <= az_tol;
-    return in_range & in_azimuth;
+    if (std::fabs(ra - rb) > rho_tol) return false;
+    return !check_azimuth || angDiff(azimuth[a], azimuth[b]) <= az_tol;
   };
 
   // Unions. Most angular neighbours unite, so each ring is first cut into runs (see Run): a
@@ -96,18 +94,18 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     for (std::uint32_t p = b; p < e; ++p)
     {
       const Label l = lab[p];
-      // angular neighbour (n, k-1): the same test as from (n, k-1) to (n, k), which it is
-      const bool join = p > b && (wanted(l) & (linked[p] != 0) & (lab[p - 1] == l) & close(p - 1, p, true));
+      // angular neighbour (n, k-1): the pair the original test saw from (n, k-1), same operands
+      const bool join = p > b && wanted(l) && linked[p] && lab[p - 1] == l && close(p - 1, p, true);
       if (!join)
       {
-        if (s_wanted) runs[num_runs++] = {s, p};
+        if (s_wanted) runs[num_runs++] = {s, p, 0};
         s = p;
         s_wanted = wanted(l);
         parent[p] = p;
       }
       run[p] = s;
     }
-    if (s_wanted) runs[num_runs++] = {s, e};
+    if (s_wanted) runs[num_runs++] = {s, e, 0};
     // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
     if (e - b >= 2)
     {
@@ -158,7 +156,9 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // Component sizes, run by run. A root is the smallest position of its component (see unite),
   // so it is the start of the component's first run, and path halving keeps parent[s] <= s:
   // in grid order, parent[parent[s]] is already the root, and is stored back for the look-ups
-  // below. Roots are listed as they come, i.e. in scan order.
+  // below. Roots are listed as they come, i.e. in scan order. Each run and each duplicate
+  // keeps its rank among the points of its component (the count before it), which is where
+  // its indices go: the fill below then needs no cursor per primitive.
   std::int32_t* const comp = comp_.data();
   std::uint32_t* const roots = roots_.data();
   std::size_t num_roots = 0;
@@ -175,14 +175,30 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     }
     else
     {
+      runs[k].rank = static_cast<std::uint32_t>(comp[r]);
       comp[r] += len;
     }
   }
-  // duplicates (same firing, same range) join their representative's primitive
-  for (const std::uint32_t i : g.duplicates)
+  // duplicates (same firing, same range) join their representative's primitive, after its
+  // grid points, in input order
+  const std::uint32_t* const dups = g.duplicates.data();
+  const std::size_t num_dups = g.duplicates.size();
+  dup_root_.resize(num_dups);
+  dup_rank_.resize(num_dups);
+  std::uint32_t* const dup_root = dup_root_.data();
+  std::uint32_t* const dup_rank = dup_rank_.data();
+  comp[m] = -1;
+  for (std::size_t k = 0; k < num_dups; ++k)
   {
-    const auto pos = static_cast<std::size_t>(grid_pos[i]);
-    if (wanted(lab[pos])) ++comp[parent[run[pos]]];
+    const auto pos = static_cast<std::size_t>(grid_pos[dups[k]]);
+    if (!wanted(lab[pos]))
+    {
+      dup_root[k] = static_cast<std::uint32_t>(m);
+      continue;
+    }
+    const std::uint32_t r = parent[run[pos]];
+    dup_root[k] = r;
+    dup_rank[k] = static_cast<std::uint32_t>(comp[r]++);
   }
   // ids for the large-enough components, in scan order; comp becomes the id at each root
   std::uint32_t total = 0;
@@ -199,6 +215,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     prim.id = static_cast<std::uint32_t>(out.primitives.size());
     prim.label = lab[r];
     prim.first = total;
+    prim.num_points = size;
     total += size;
     comp[r] = static_cast<std::int32_t>(prim.id);
     out.primitives.push_back(prim);
@@ -222,42 +239,36 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const double* const gz = g.z.data();
   Eigen::Array4f* const point = point_.data();
   {
-    std::uint32_t written = 0;  // of_grid is written up to here
     int n = 0;
     for (std::size_t k = 0; k < num_runs; ++k)
     {
       const std::uint32_t s = runs[k].begin, t = runs[k].end;
       const std::int32_t id = comp[parent[s]];
-      if (id < 0) continue;  // left to the -1 fill of the next run or the end
-      std::fill(of_grid + written, of_grid + s, -1);
-      std::fill(of_grid + s, of_grid + t, id);
-      written = t;
+      if (id < 0) continue;
       while (s >= ring_begin[n + 1]) ++n;
       PrimitiveInfo& pr = prims[id];
       // runs come in grid order, so in ring order: the first one has the lowest ring
-      if (pr.num_points == 0) pr.ring_min = static_cast<std::uint16_t>(n);
+      if (runs[k].rank == 0) pr.ring_min = static_cast<std::uint16_t>(n);
       pr.ring_max = static_cast<std::uint16_t>(n);
-      const std::uint32_t slot = pr.first + pr.num_points;
-      pr.num_points += t - s;
-      std::copy(index + s, index + t, indices + slot);
-      for (std::uint32_t p = s; p < t; ++p)
+      // one loop for all of a run's stores: separate fills and copies were a library call
+      // each, for nine points on average
+      std::uint32_t slot = pr.first + runs[k].rank;
+      for (std::uint32_t p = s; p < t; ++p, ++slot)
       {
-        slot_pos[slot + (p - s)] = p;
+        of_grid[p] = id;
+        indices[slot] = index[p];
+        slot_pos[slot] = p;
         point[p] = Eigen::Array4f(static_cast<float>(gx[p]), static_cast<float>(gy[p]), static_cast<float>(gz[p]), 0.0f);
       }
     }
-    std::fill(of_grid + written, of_grid + m, -1);
   }
-  // duplicates after the grid points, in input order
-  for (const std::uint32_t i : g.duplicates)
+  for (std::size_t k = 0; k < num_dups; ++k)
   {
-    const auto pos = static_cast<std::uint32_t>(grid_pos[i]);
-    const std::int32_t id = of_grid[pos];
+    const std::int32_t id = comp[dup_root[k]];
     if (id < 0) continue;
-    PrimitiveInfo& pr = prims[id];
-    const std::uint32_t slot = pr.first + pr.num_points++;
-    indices[slot] = i;
-    slot_pos[slot] = pos;
+    const std::uint32_t slot = prims[id].first + dup_rank[k];
+    indices[slot] = dups[k];
+    slot_pos[slot] = static_cast<std::uint32_t>(grid_pos[dups[k]]);
   }
 
   // Box, centroid, moments and axes, primitive by primitive. All sums run over the points in
