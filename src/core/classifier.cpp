@@ -109,11 +109,11 @@ inline std::uint32_t orderedKey(float f)
 }
 }  // namespace
 
-float selectQuantile(float* v, std::size_t n, double q)
+namespace
 {
-  if (n == 0) return std::numeric_limits<float>::quiet_NaN();
-  // nearest-rank quantile: the value at position floor(q * (n - 1))
-  std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+// Value of rank k in v[0, n) (reordered, never overwritten).
+float selectRank(float* v, std::size_t n, std::size_t k)
+{
   // Radix selection, most significant digit first: each pass counts the digit of the remaining
   // candidates and moves those in the bucket that holds rank k to the front. Same element as
   // nth_element, but without its unpredictable comparisons, which made this the second largest
@@ -203,6 +203,190 @@ float selectQuantile(float* v, std::size_t n, double q)
   std::nth_element(c, c + k, c + m);
   return c[k];
 }
+}  // namespace
+
+float selectQuantile(float* v, std::size_t n, double q)
+{
+  if (n == 0) return std::numeric_limits<float>::quiet_NaN();
+  // nearest-rank quantile: the value at position floor(q * (n - 1))
+  return selectRank(v, n, std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1))));
+}
+
+namespace
+{
+// Ring features are non-negative (angles, variances, relative errors; NaN where undefined), and
+// the bits of a non-negative float order like the float: bits >> 21 (exponent and two mantissa
+// bits, quarter binades) bin a ring's values with no key transform, no min/max pass and no
+// copy. The ring is read in place; only the values of the bins that hold the wanted ranks (a few
+// percent) are copied out for the exact selection.
+constexpr int kBinShift = 21;
+constexpr std::uint32_t kBins = 1024;        // every float with a clear sign bit
+constexpr std::uint32_t kFiniteBins = 1020;  // bins 1020..1023: +inf and NaN (exponent all ones)
+// Deviations from the median are binned finer, in sixteenths of a binade (see binDeviations).
+constexpr int kDevShift = 19;
+
+inline std::uint32_t bitsOf(float f)
+{
+  std::uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+// One ring's values by bin, and the copy-out of the values of wanted bins.
+struct BinnedRing
+{
+  std::uint16_t* bin;  // bin of each value (n)
+  std::uint8_t* flag;  // 1 where a value is wanted (n)
+  float* cand;         // the wanted values (n + 1)
+  // Two tables, for even and odd positions: neighbours on a ring have similar features, and
+  // equal bins in a row would chain every increment to the store of the one before.
+  std::uint32_t count[2][kBins];
+
+  std::uint32_t size(std::uint32_t b) const { return count[0][b] + count[1][b]; }
+
+  void countBins(std::size_t n)
+  {
+    std::memset(count, 0, sizeof count);
+    std::size_t i = 0;
+    for (; i + 1 < n; i += 2)
+    {
+      ++count[0][bin[i]];
+      ++count[1][bin[i + 1]];
+    }
+    if (i < n) ++count[0][bin[i]];
+  }
+
+  // The bin of rank k, searched upwards from bin `from` with `below` values under it; on return
+  // `below` counts the values under the bin found.
+  std::uint32_t find(std::size_t k, std::uint32_t from, std::size_t& below) const
+  {
+    std::uint32_t b = from;
+    // 16 bins at a time first: most bins are empty
+    for (; b + 16 <= kBins; b += 16)
+    {
+      std::uint32_t s = 0;
+      for (std::uint32_t j = 0; j < 16; ++j) s += size(b + j);
+      if (below + s > k) break;
+      below += s;
+    }
+    for (; below + size(b) <= k; ++b) below += size(b);
+    return b;
+  }
+
+  // Copies value(i) of every i in bin b0 or b1 to cand; returns how many.
+  template <class Value>
+  std::size_t gather(std::size_t n, std::uint32_t b0, std::uint32_t b1, Value value)
+  {
+    // flags first (vectorized), then copies only in the rare blocks of 16 holding a wanted one;
+    // local pointers, as a byte store may alias the members
+    const std::uint16_t* const bn = bin;
+    std::uint8_t* const fl = flag;
+    for (std::size_t i = 0; i < n; ++i) fl[i] = static_cast<std::uint8_t>((bn[i] == b0) | (bn[i] == b1));
+    std::size_t m = 0, i = 0;
+    float* const out = cand;
+    auto copy = [&](std::size_t j) {
+      out[m] = value(j);  // overwritten by the next one unless this one is wanted
+      m += fl[j];
+    };
+    for (; i + 16 <= n; i += 16)
+    {
+      std::uint64_t lo, hi;
+      std::memcpy(&lo, fl + i, sizeof lo);
+      std::memcpy(&hi, fl + i + 8, sizeof hi);
+      if ((lo | hi) == 0) continue;
+      for (std::size_t j = i; j < i + 16; ++j) copy(j);
+    }
+    for (; i < n; ++i) copy(i);
+    return m;
+  }
+};
+
+// Bins of x[0, n); false when a value has its sign bit set (negative, -0 or a negative NaN),
+// which the bins cannot order: the caller takes the general path then.
+bool binValues(const float* x, std::size_t n, std::uint16_t* bin)
+{
+  std::uint32_t sign = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint32_t u = bitsOf(x[i]);
+    sign |= u;
+    bin[i] = static_cast<std::uint16_t>(u >> kBinShift);
+  }
+  return (sign >> 31) == 0;
+}
+
+// Bins of |x - med| for non-negative x with median med. The MAD is at most med (at least half of
+// the values lie in [0, med], within med of it), so the bins end with med's own (bin 1022):
+// larger deviations, and NaN, all go to bin 1023; the 1022 bins below cover 64 binades.
+void binDeviations(const float* x, std::size_t n, float med, std::uint16_t* bin)
+{
+  const int base = static_cast<int>(bitsOf(med) >> kDevShift) - static_cast<int>(kBins - 2);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const int b = static_cast<int>(bitsOf(std::fabs(x[i] - med)) >> kDevShift) - base;
+    bin[i] = static_cast<std::uint16_t>(std::min(std::max(b, 0), static_cast<int>(kBins - 1)));
+  }
+}
+
+inline std::size_t rankOf(std::size_t n, double q)
+{
+  return std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+}
+
+std::size_t finiteCount(const BinnedRing& r, std::size_t n)
+{
+  std::size_t non_finite = 0;
+  for (std::uint32_t b = kFiniteBins; b < kBins; ++b) non_finite += r.size(b);
+  return n - non_finite;
+}
+
+// Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
+bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
+{
+  if (!binValues(x, n, r.bin)) return false;
+  r.countBins(n);
+  const std::size_t finite = finiteCount(r, n);
+  if (finite == 0)
+  {
+    lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
+    return true;
+  }
+  const std::size_t k_lo = rankOf(finite, 0.25), k_hi = rankOf(finite, 0.75);
+  std::size_t below_lo = 0;
+  const std::uint32_t b_lo = r.find(k_lo, 0, below_lo);
+  std::size_t below_hi = below_lo;
+  const std::uint32_t b_hi = r.find(k_hi, b_lo, below_hi);
+  const std::size_t m = r.gather(n, b_lo, b_hi, [x](std::size_t i) { return x[i]; });
+  // the candidates of the lower bin come first in the order of the values
+  const std::size_t r_hi = k_hi - below_hi + (b_hi != b_lo ? r.size(b_lo) : 0);
+  lo = selectRank(r.cand, m, k_lo - below_lo);
+  hi = selectRank(r.cand, m, r_hi);
+  return true;
+}
+
+// max(out, median + k * 1.4826 * MAD) of the finite values of x[0, n) (out unchanged when none
+// is finite); false when they need the general path.
+bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
+{
+  if (!binValues(x, n, r.bin)) return false;
+  r.countBins(n);
+  const std::size_t finite = finiteCount(r, n);
+  if (finite == 0) return true;
+  const std::size_t rank = rankOf(finite, 0.5);
+  std::size_t below = 0;
+  std::uint32_t b = r.find(rank, 0, below);
+  std::size_t m = r.gather(n, b, b, [x](std::size_t i) { return x[i]; });
+  const float med = selectRank(r.cand, m, rank - below);
+  binDeviations(x, n, med, r.bin);
+  r.countBins(n);
+  below = 0;
+  b = r.find(rank, 0, below);
+  m = r.gather(n, b, b, [x, med](std::size_t i) { return std::fabs(x[i] - med); });
+  const float mad = selectRank(r.cand, m, rank - below);
+  out = std::max(med + k * kMadToSigma * mad, out);
+  return true;
+}
+}  // namespace
 
 void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, const Params& P,
                                    std::vector<RingThresholds>& out)
@@ -210,6 +394,15 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
   out.assign(static_cast<std::size_t>(grid.num_rings), RingThresholds{});
   const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
   const float sigma = P.range_noise;
+  std::uint32_t largest = 0;
+  for (int n = 0; n < grid.num_rings; ++n) largest = std::max(largest, grid.ringSize(n));
+  if (scratch_.size() < largest + 1u) scratch_.resize(largest + 1u);
+  if (bin_.size() < largest) bin_.resize(largest);
+  if (flag_.size() < largest) flag_.resize(largest);
+  BinnedRing r;
+  r.bin = bin_.data();
+  r.flag = flag_.data();
+  r.cand = scratch_.data();
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
@@ -218,6 +411,7 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
     {
       // Algorithm 1: Q25 and Q75 of each feature over the ring, each by one O(K) selection.
       auto quartiles = [&](const std::vector<float>& v, float& lo, float& hi) {
+        if (binnedQuartiles(v.data() + b, e - b, r, lo, hi)) return;
         const std::size_t k = gatherFinite(v, b, e, scratch_);
         lo = selectQuantile(scratch_.data(), k, 0.25);
         hi = selectQuantile(scratch_.data(), k, 0.75);
@@ -230,16 +424,16 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
       continue;
     }
     // Robust: median + k * MAD on the ring, never below what noise alone can produce.
-    std::size_t k = gatherFinite(f.turning, b, e, scratch_);
-    const float turn_floor = P.edge_min_angle_deg * kDegToRad;
-    t.curvature_high = k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), turn_floor) : turn_floor;
+    auto robust = [&](const std::vector<float>& v, float floor) {
+      float thr = floor;
+      if (binnedMedianPlusKMad(v.data() + b, e - b, P.robust_k, r, thr)) return thr;
+      const std::size_t k = gatherFinite(v, b, e, scratch_);
+      return k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), floor) : floor;
+    };
+    t.curvature_high = robust(f.turning, P.edge_min_angle_deg * kDegToRad);
     t.curvature_low = t.curvature_high;
-    k = gatherFinite(f.smoothness, b, e, scratch_);
-    const float s_floor = (P.noise_floor_k * sigma) * (P.noise_floor_k * sigma);
-    t.smoothness_high = k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), s_floor) : s_floor;
-    k = gatherFinite(f.discontinuity, b, e, scratch_);
-    const float d_floor = P.discontinuity_mode == DiscontinuityMode::Jump ? P.jump_min_ratio : 0.9f;
-    t.discontinuity_high = k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), d_floor) : d_floor;
+    t.smoothness_high = robust(f.smoothness, (P.noise_floor_k * sigma) * (P.noise_floor_k * sigma));
+    t.discontinuity_high = robust(f.discontinuity, P.discontinuity_mode == DiscontinuityMode::Jump ? P.jump_min_ratio : 0.9f);
     t.discontinuity_low = t.discontinuity_high;
   }
 }
