@@ -215,15 +215,15 @@ float selectQuantile(float* v, std::size_t n, double q)
 namespace
 {
 // Ring features are non-negative (angles, variances, relative errors; NaN where undefined), and
-// the bits of a non-negative float order like the float: bits >> 21 (exponent and two mantissa
-// bits, quarter binades) bin a ring's values with no key transform, no min/max pass and no
-// copy. The ring is read in place; only the values of the bins that hold the wanted ranks (a few
-// percent) are copied out for the exact selection.
-constexpr int kBinShift = 21;
-constexpr std::uint32_t kBins = 1024;        // every float with a clear sign bit
-constexpr std::uint32_t kFiniteBins = 1020;  // bins 1020..1023: +inf and NaN (exponent all ones)
-// Deviations from the median are binned finer, in sixteenths of a binade (see binDeviations).
-constexpr int kDevShift = 19;
+// the bits of a non-negative float order like the float: bits >> 20 (exponent and three mantissa
+// bits, eighths of a binade) bin a ring's values with no key transform, no min/max pass and no
+// copy. The ring is read in place; only the values of the bins that hold the wanted ranks (one
+// to three percent) are copied out for the exact selection.
+constexpr int kBinShift = 20;
+constexpr std::uint32_t kBins = 2048;        // every float with a clear sign bit
+constexpr std::uint32_t kFiniteBins = 2040;  // bins 2040..2047: +inf and NaN (exponent all ones)
+// Deviations from the median are binned finer, in 32nds of a binade (see binDeviations).
+constexpr int kDevShift = 18;
 
 inline std::uint32_t bitsOf(float f)
 {
@@ -238,22 +238,14 @@ struct BinnedRing
   std::uint16_t* bin;  // bin of each value (n)
   std::uint8_t* flag;  // 1 where a value is wanted (n)
   float* cand;         // the wanted values (n + 1)
-  // Two tables, for even and odd positions: neighbours on a ring have similar features, and
-  // equal bins in a row would chain every increment to the store of the one before.
-  std::uint32_t count[2][kBins];
+  std::uint32_t count[kBins];
 
-  std::uint32_t size(std::uint32_t b) const { return count[0][b] + count[1][b]; }
+  std::uint32_t size(std::uint32_t b) const { return count[b]; }
 
   void countBins(std::size_t n)
   {
     std::memset(count, 0, sizeof count);
-    std::size_t i = 0;
-    for (; i + 1 < n; i += 2)
-    {
-      ++count[0][bin[i]];
-      ++count[1][bin[i + 1]];
-    }
-    if (i < n) ++count[0][bin[i]];
+    for (std::size_t i = 0; i < n; ++i) ++count[bin[i]];
   }
 
   // The bin of rank k, searched upwards from bin `from` with `below` values under it; on return
@@ -264,21 +256,50 @@ struct BinnedRing
     // 16 bins at a time first: most bins are empty
     for (; b + 16 <= kBins; b += 16)
     {
-      std::uint32_t s = 0;
-      for (std::uint32_t j = 0; j < 16; ++j) s += size(b + j);
+      const std::size_t s = sum(b);
       if (below + s > k) break;
       below += s;
     }
     for (; below + size(b) <= k; ++b) below += size(b);
     return b;
   }
+  // The bin of rank k where no value lies in the bins (0, lowest) (see binValues).
+  std::uint32_t findAbove(std::size_t k, std::uint32_t lowest, std::size_t& below) const
+  {
+    below = lowest > 0 ? size(0) : 0;  // only zeros in bin 0 then
+    if (below <= k) return find(k, lowest, below);
+    below = 0;
+    return 0;
+  }
+  // The same, from the top down for rank k counted from the top (k = 0 is the largest value),
+  // with `above` values over the bin found.
+  std::uint32_t findDown(std::size_t k, std::size_t& above) const
+  {
+    std::uint32_t b = kBins;  // one past the bin to look at next
+    above = 0;
+    for (; b >= 16; b -= 16)
+    {
+      const std::size_t s = sum(b - 16);
+      if (above + s > k) break;
+      above += s;
+    }
+    for (--b; above + size(b) <= k; --b) above += size(b);
+    return b;
+  }
+  std::size_t sum(std::uint32_t b) const  // bins [b, b + 16)
+  {
+    std::uint32_t s = 0;
+    for (std::uint32_t j = 0; j < 16; ++j) s += size(b + j);
+    return s;
+  }
 
   // Copies value(i) of every i in bin b0 or b1 to cand; returns how many.
   template <class Value>
-  std::size_t gather(std::size_t n, std::uint32_t b0, std::uint32_t b1, Value value)
+  std::size_t gather(std::size_t n, std::uint32_t bin0, std::uint32_t bin1, Value value)
   {
-    // flags first (vectorized), then copies only in the rare blocks of 16 holding a wanted one;
-    // local pointers, as a byte store may alias the members
+    const auto b0 = static_cast<std::uint16_t>(bin0), b1 = static_cast<std::uint16_t>(bin1);
+    // flags first (vectorized; 16-bit bins compare 8 at a time), then copies only in the rare
+    // blocks of 8 holding a wanted one; local pointers, as a byte store may alias the members
     const std::uint16_t* const bn = bin;
     std::uint8_t* const fl = flag;
     for (std::size_t i = 0; i < n; ++i) fl[i] = static_cast<std::uint8_t>((bn[i] == b0) | (bn[i] == b1));
@@ -288,13 +309,12 @@ struct BinnedRing
       out[m] = value(j);  // overwritten by the next one unless this one is wanted
       m += fl[j];
     };
-    for (; i + 16 <= n; i += 16)
+    for (; i + 8 <= n; i += 8)
     {
-      std::uint64_t lo, hi;
-      std::memcpy(&lo, fl + i, sizeof lo);
-      std::memcpy(&hi, fl + i + 8, sizeof hi);
-      if ((lo | hi) == 0) continue;
-      for (std::size_t j = i; j < i + 16; ++j) copy(j);
+      std::uint64_t any;
+      std::memcpy(&any, fl + i, sizeof any);
+      if (any == 0) continue;
+      for (std::size_t j = i; j < i + 8; ++j) copy(j);
     }
     for (; i < n; ++i) copy(i);
     return m;
@@ -302,22 +322,26 @@ struct BinnedRing
 };
 
 // Bins of x[0, n); false when a value has its sign bit set (negative, -0 or a negative NaN),
-// which the bins cannot order: the caller takes the general path then.
-bool binValues(const float* x, std::size_t n, std::uint16_t* bin)
+// which the bins cannot order: the caller takes the general path then. `lowest` is the bin of
+// the smallest value other than +0 (zeros are common, and a search up from bin 0 would cross
+// every empty bin between them and the rest).
+bool binValues(const float* x, std::size_t n, std::uint16_t* bin, std::uint32_t& lowest)
 {
-  std::uint32_t sign = 0;
+  std::uint32_t sign = 0, low = 0xFFFFFFFFu;
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::uint32_t u = bitsOf(x[i]);
     sign |= u;
+    low = std::min(low, u - 1);  // +0 wraps to the top
     bin[i] = static_cast<std::uint16_t>(u >> kBinShift);
   }
+  lowest = (low + 1) >> kBinShift;
   return (sign >> 31) == 0;
 }
 
 // Bins of |x - med| for non-negative x with median med. The MAD is at most med (at least half of
-// the values lie in [0, med], within med of it), so the bins end with med's own (bin 1022):
-// larger deviations, and NaN, all go to bin 1023; the 1022 bins below cover 64 binades.
+// the values lie in [0, med], within med of it), so the bins end with med's own (the top bin
+// but one): larger deviations, and NaN, all go to the top bin; the bins below cover 64 binades.
 void binDeviations(const float* x, std::size_t n, float med, std::uint16_t* bin)
 {
   const int base = static_cast<int>(bitsOf(med) >> kDevShift) - static_cast<int>(kBins - 2);
@@ -343,7 +367,8 @@ std::size_t finiteCount(const BinnedRing& r, std::size_t n)
 // Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
 bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
 {
-  if (!binValues(x, n, r.bin)) return false;
+  std::uint32_t lowest;
+  if (!binValues(x, n, r.bin, lowest)) return false;
   r.countBins(n);
   const std::size_t finite = finiteCount(r, n);
   if (finite == 0)
@@ -353,7 +378,7 @@ bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, fl
   }
   const std::size_t k_lo = rankOf(finite, 0.25), k_hi = rankOf(finite, 0.75);
   std::size_t below_lo = 0;
-  const std::uint32_t b_lo = r.find(k_lo, 0, below_lo);
+  const std::uint32_t b_lo = r.findAbove(k_lo, lowest, below_lo);
   std::size_t below_hi = below_lo;
   const std::uint32_t b_hi = r.find(k_hi, b_lo, below_hi);
   const std::size_t m = r.gather(n, b_lo, b_hi, [x](std::size_t i) { return x[i]; });
@@ -368,19 +393,22 @@ bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, fl
 // is finite); false when they need the general path.
 bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
 {
-  if (!binValues(x, n, r.bin)) return false;
+  std::uint32_t lowest;
+  if (!binValues(x, n, r.bin, lowest)) return false;
   r.countBins(n);
   const std::size_t finite = finiteCount(r, n);
   if (finite == 0) return true;
   const std::size_t rank = rankOf(finite, 0.5);
   std::size_t below = 0;
-  std::uint32_t b = r.find(rank, 0, below);
+  std::uint32_t b = r.findAbove(rank, lowest, below);
   std::size_t m = r.gather(n, b, b, [x](std::size_t i) { return x[i]; });
   const float med = selectRank(r.cand, m, rank - below);
   binDeviations(x, n, med, r.bin);
   r.countBins(n);
-  below = 0;
-  b = r.find(rank, 0, below);
+  // the MAD is usually within a binade under med's bin, at the top: search down from there
+  std::size_t above = 0;
+  b = r.findDown(n - 1 - rank, above);
+  below = n - above - r.size(b);
   m = r.gather(n, b, b, [x, med](std::size_t i) { return std::fabs(x[i] - med); });
   const float mad = selectRank(r.cand, m, rank - below);
   out = std::max(med + k * kMadToSigma * mad, out);
