@@ -14,7 +14,6 @@ namespace
 constexpr float kDegToRad = 0.0174532925f;
 constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // Copies the finite values of v[b, e) into out; returns how many.
 std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, std::vector<float>& out)
@@ -36,6 +35,29 @@ float medianPlusKMad(float* buf, std::size_t n, float k)
 }
 }  // namespace
 
+namespace
+{
+// Edge (2) and Corner (3) are the labels with this bit, Rough (4) and the others are not.
+constexpr std::uint8_t kFeatureBit = 2;
+static_assert(static_cast<int>(Label::Edge) == 2 && static_cast<int>(Label::Corner) == 3 &&
+                  static_cast<int>(Label::Rough) == 4 && static_cast<int>(Label::Plane) == 1,
+              "kFeatureBit picks Edge and Corner");
+
+// First k in [u, end) with an Edge or Corner (end if none), eight labels at a time.
+std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
+{
+  constexpr std::uint64_t kBits = 0x0101010101010101ull * kFeatureBit;
+  for (; u + 8 <= end; u += 8)
+  {
+    std::uint64_t w;
+    std::memcpy(&w, lab + u, sizeof w);
+    if (w & kBits) break;
+  }
+  while (u < end && (static_cast<std::uint8_t>(lab[u]) & kFeatureBit) == 0) ++u;
+  return u;
+}
+}  // namespace
+
 void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std::uint32_t b, std::uint32_t e,
                                    bool closed, std::vector<Label>& labels)
 {
@@ -44,56 +66,59 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
   // seam of a closed ring, so a crease on the seam is kept once.
   const std::uint32_t K = e - b;
   if (K == 0) return;
-  auto isFeature = [&](std::uint32_t k) {
-    const Label l = labels[b + k];
-    return l == Label::Edge || l == Label::Corner;
-  };
+  // Raw pointers: a label store may alias anything, and reloads of the vectors' data pointers
+  // after each one kept the loops below from running lean.
+  Label* const lab = labels.data() + b;
+  const std::uint8_t* const linked = grid.linked.data() + b;
+  const float* const turning = f.turning.data() + b;
+  auto isFeature = [lab](std::uint32_t k) { return (static_cast<std::uint8_t>(lab[k]) & kFeatureBit) != 0; };
   // start right after a break (a non-feature sample or a gap) so no run is entered midway
   std::uint32_t start = 0;
   if (closed)
   {
     std::uint32_t k = 0;
-    while (k < K && isFeature(k) && grid.linked[b + k]) ++k;
+    while (k < K && isFeature(k) && linked[k]) ++k;
     if (k == K) return;  // the whole ring is one run: nothing to compare against
     start = k;
   }
-  for (std::uint32_t t = 0; t < K;)
+  // The walk visits u = start .. start + K - 1, at sample u or u - K: a wrap-around index
+  // instead of a division per sample.
+  const std::uint32_t end = start + K;
+  auto at = [K](std::uint32_t u) { return u < K ? u : u - K; };
+  for (std::uint32_t u = start; u < end;)
   {
-    const std::uint32_t k0 = (start + t) % K;
-    if (!isFeature(k0))
+    // most samples are no feature: skip them, before the seam and after it
+    if (u < K) u = nextFeature(lab, u, std::min(end, K));
+    if (u >= K) u = K + nextFeature(lab, u - K, end - K);
+    if (u == end) break;
+    // the run [u, v)
+    std::uint32_t v = u + 1;
+    for (; v < end; ++v)
     {
-      ++t;
-      continue;
-    }
-    // the run [t, t_end)
-    std::uint32_t t_end = t + 1;
-    while (t_end < K)
-    {
-      const std::uint32_t k = (start + t_end) % K;
-      if (!isFeature(k) || !grid.linked[b + k] || (!closed && k == 0)) break;
-      ++t_end;
+      const std::uint32_t k = at(v);
+      if (!isFeature(k) || !linked[k] || (!closed && k == 0)) break;
     }
     bool touches_corner = false;
     std::uint32_t arg = K;
     float best = -1.0f;
-    for (std::uint32_t u = t; u < t_end; ++u)
+    for (std::uint32_t w = u; w < v; ++w)
     {
-      const std::uint32_t p = b + (start + u) % K;
-      if (labels[p] == Label::Corner)
+      const std::uint32_t k = at(w);
+      if (lab[k] == Label::Corner)
         touches_corner = true;
-      else if (f.turning[p] > best)
+      else if (turning[k] > best)
       {
-        best = f.turning[p];
-        arg = p;
+        best = turning[k];
+        arg = k;
       }
     }
     // a run touching a Corner is the jump's own footprint: the Corner already marks it
-    for (std::uint32_t u = t; u < t_end; ++u)
+    for (std::uint32_t w = u; w < v; ++w)
     {
-      const std::uint32_t p = b + (start + u) % K;
-      if (labels[p] == Label::Edge && (p != arg || touches_corner)) labels[p] = Label::Plane;
+      const std::uint32_t k = at(w);
+      if (lab[k] == Label::Edge && (k != arg || touches_corner)) lab[k] = Label::Plane;
     }
-    t = t_end;
+    u = v;
   }
 }
 
@@ -230,6 +255,12 @@ inline std::uint32_t bitsOf(float f)
   std::uint32_t u;
   std::memcpy(&u, &f, sizeof u);
   return u;
+}
+inline float fromBits(std::uint32_t u)
+{
+  float f;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
 }
 
 // One ring's values by bin, and the copy-out of the values of wanted bins.
@@ -466,74 +497,101 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
   }
 }
 
+namespace
+{
+// Per-ring labelling kernels: branch-free over raw pointers, so that they vectorize (the
+// division and the double product are cheap four or two at a time, and a label store would
+// otherwise make the compiler reload every pointer). An ablated feature (paper Table 2) reaches
+// them as a threshold no value exceeds. Isolated points (no feature defined) stay None.
+struct RingInput
+{
+  const float *curvature, *turning, *smoothness, *discontinuity;
+  const double* range;
+  Label* label;
+  std::size_t n;
+};
+
+// Algorithm 1, line by line (NaN compares false, so undefined features fall through).
+void labelQuartile(const RingInput& in, const RingThresholds& t, bool use_curvature)
+{
+  const float *const kap = in.curvature, *const sm = in.smoothness, *const dis = in.discontinuity;
+  std::uint8_t* const lab = reinterpret_cast<std::uint8_t*>(in.label);
+  const bool no_curvature = !use_curvature;
+  for (std::size_t i = 0; i < in.n; ++i)
+  {
+    const float k = kap[i], S = sm[i], D = dis[i];
+    const bool edge = use_curvature & (k > t.curvature_high);
+    const bool corner = ((k > t.curvature_high) | no_curvature) & (D > t.discontinuity_high);
+    const bool plane = ((k < t.curvature_low) | no_curvature) & (D < t.discontinuity_low);
+    std::uint8_t l = static_cast<std::uint8_t>(Label::Plane);
+    l = edge ? static_cast<std::uint8_t>(Label::Edge) : l;
+    l = corner ? static_cast<std::uint8_t>(Label::Corner) : l;
+    l = plane ? static_cast<std::uint8_t>(Label::Plane) : l;
+    l = S > t.smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
+    lab[i] = std::isnan(S) & std::isnan(k) & std::isnan(D) ? static_cast<std::uint8_t>(Label::None) : l;
+  }
+}
+
+// Robust rules: a turn or a jump counts only above its ring's threshold and above noise.
+template <bool kJump>
+void labelRobust(const RingInput& in, const RingThresholds& t, float turn_noise, double jump_noise)
+{
+  const float *const kap = in.curvature, *const turning = in.turning, *const sm = in.smoothness,
+              *const dis = in.discontinuity;
+  const double* const range = in.range;
+  std::uint8_t* const lab = reinterpret_cast<std::uint8_t*>(in.label);
+  for (std::size_t i = 0; i < in.n; ++i)
+  {
+    const float k = kap[i], turn = turning[i], S = sm[i], D = dis[i];
+    // kappa = turning / chord length, and chord 0 where kappa <= 0: the quotient is masked to
+    // +0 by its bits, as the compiler would not vectorize a conditional division (FP traps)
+    const float chord = fromBits(bitsOf(turn / k) & (0u - static_cast<std::uint32_t>(k > 0)));
+    // turn > threshold && turn * chord > noise, the product turned into NaN (above nothing)
+    // where the first fails: a plain && let the compiler branch around the division
+    const float turn_excess = fromBits(bitsOf(turn * chord) | (turn > t.curvature_high ? 0u : 0x7FC00000u));
+    const bool turn_high = turn_excess > turn_noise;
+    bool jump_high = D > t.discontinuity_high;
+    if (kJump) jump_high = jump_high & (static_cast<double>(D) * range[i] > jump_noise);
+    // S is edge-preserving (best one-sided window), so a clean depth jump keeps a low S on
+    // its own surface; high S means clutter even where ranges jump everywhere.
+    std::uint8_t l = static_cast<std::uint8_t>(Label::Plane);
+    l = turn_high ? static_cast<std::uint8_t>(Label::Edge) : l;
+    l = jump_high ? static_cast<std::uint8_t>(Label::Corner) : l;
+    l = S > t.smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
+    lab[i] = std::isnan(S) & std::isnan(k) & std::isnan(D) ? static_cast<std::uint8_t>(Label::None) : l;
+  }
+}
+}  // namespace
+
 void Classifier::classify(const ScanGrid& grid, const Features& f, const Params& P,
                           const std::vector<RingThresholds>& thr, std::vector<Label>& labels)
 {
-  const std::size_t m = grid.size();
-  labels.assign(m, Label::None);
+  labels.assign(grid.size(), Label::None);
   const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
   const float sigma = P.range_noise;
   const float jump_noise = P.noise_floor_k * 2.45f * sigma;  // sqrt(6) sigma: linear-prediction noise
   const float turn_noise = P.noise_floor_k * 2.45f * sigma;  // / chord length, per point below
-  // Raw pointers and parameters in locals: a label is a byte, and a byte store may alias
-  // anything, so the compiler reloaded the vectors' data pointers and P's fields after every
-  // label store in the loop below.
-  const float* const curvature = f.curvature.data();
-  const float* const smoothness = f.smoothness.data();
-  const float* const discontinuity = f.discontinuity.data();
-  const float* const turning = f.turning.data();
-  const double* const range = grid.range.data();
-  Label* const lab = labels.data();
-  const bool use_curvature = P.use_curvature, use_smoothness = P.use_smoothness;
   const bool jump_mode = P.discontinuity_mode == DiscontinuityMode::Jump;
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
-    const RingThresholds t = thr[static_cast<std::size_t>(n)];
-    for (std::uint32_t p = b; p < e; ++p)
+    const RingInput in{f.curvature.data() + b, f.turning.data() + b, f.smoothness.data() + b,
+                       f.discontinuity.data() + b, grid.range.data() + b, labels.data() + b, e - b};
+    RingThresholds t = thr[static_cast<std::size_t>(n)];
+    // ablations (paper Table 2) drop a feature entirely: no value passes its threshold
+    if (!P.use_smoothness) t.smoothness_high = kInf;
+    if (quartile)
     {
-      // Ablations (paper Table 2) drop a feature entirely: NaN compares false everywhere below.
-      const float kappa = use_curvature ? curvature[p] : kNaN;
-      const float S = use_smoothness ? smoothness[p] : kNaN;
-      const float D = discontinuity[p];
-      if (std::isnan(smoothness[p]) && std::isnan(curvature[p]) && std::isnan(D)) continue;  // isolated: None
-      Label l;
-      if (quartile)
-      {
-        // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
-        if (S > t.smoothness_high)
-          l = Label::Rough;
-        else if ((kappa < t.curvature_low || !use_curvature) && D < t.discontinuity_low)
-          l = Label::Plane;
-        else if ((kappa > t.curvature_high || !use_curvature) && D > t.discontinuity_high)
-          l = Label::Corner;
-        else if (kappa > t.curvature_high)
-          l = Label::Edge;
-        else
-          l = Label::Plane;
-      }
-      else
-      {
-        const float turn = use_curvature ? turning[p] : kNaN;
-        const float chord = kappa > 0 ? turn / kappa : 0.0f;  // kappa = turning / chord length
-        const bool turn_high = turn > t.curvature_high && turn * chord > turn_noise;
-        bool jump_high = D > t.discontinuity_high;
-        if (jump_mode) jump_high = jump_high && static_cast<double>(D) * range[p] > static_cast<double>(jump_noise);
-        // S is edge-preserving (best one-sided window), so a clean depth jump keeps a low S on
-        // its own surface; high S means clutter even where ranges jump everywhere.
-        if (S > t.smoothness_high)
-          l = Label::Rough;
-        else if (jump_high)
-          l = Label::Corner;
-        else if (turn_high)
-          l = Label::Edge;
-        else
-          l = Label::Plane;
-      }
-      lab[p] = l;
+      labelQuartile(in, t, P.use_curvature);
+      continue;
     }
-    if (quartile || !P.non_max_suppression) continue;
-    suppressNonMaxima(grid, f, b, e, grid.ring_closed[static_cast<std::size_t>(n)] != 0, labels);
+    if (!P.use_curvature) t.curvature_high = kInf;
+    if (jump_mode)
+      labelRobust<true>(in, t, turn_noise, static_cast<double>(jump_noise));
+    else
+      labelRobust<false>(in, t, turn_noise, static_cast<double>(jump_noise));
+    if (P.non_max_suppression)
+      suppressNonMaxima(grid, f, b, e, grid.ring_closed[static_cast<std::size_t>(n)] != 0, labels);
   }
 }
 
