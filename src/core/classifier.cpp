@@ -1,4 +1,4 @@
-// Per-ring thresholds by O(K) selection (std::nth_element, never a sort) and the labelling rules.
+// Per-ring thresholds by exact O(K) selection (never a sort) and the labelling rules.
 #include "ring_curvature/classifier.hpp"
 
 #include <algorithm>
@@ -15,127 +15,32 @@ constexpr float kDegToRad = 0.0174532925f;
 constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Copies the finite values of v[b, e) into out; returns how many.
-std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, std::vector<float>& out)
-{
-  out.resize(e - b);
-  std::size_t n = 0;
-  for (std::uint32_t p = b; p < e; ++p)
-    if (std::isfinite(v[p])) out[n++] = v[p];
-  return n;
-}
-
-// median + k * 1.4826 * MAD of buf[0, n) (buf is reordered).
-float medianPlusKMad(float* buf, std::size_t n, float k)
-{
-  const float med = selectQuantile(buf, n, 0.5);
-  for (std::size_t i = 0; i < n; ++i) buf[i] = std::fabs(buf[i] - med);
-  const float mad = selectQuantile(buf, n, 0.5);
-  return med + k * kMadToSigma * mad;
-}
-}  // namespace
-
-namespace
-{
-// Edge (2) and Corner (3) are the labels with this bit, Rough (4) and the others are not.
-constexpr std::uint8_t kFeatureBit = 2;
-static_assert(static_cast<int>(Label::Edge) == 2 && static_cast<int>(Label::Corner) == 3 &&
-                  static_cast<int>(Label::Rough) == 4 && static_cast<int>(Label::Plane) == 1,
-              "kFeatureBit picks Edge and Corner");
-
-// First k in [u, end) with an Edge or Corner (end if none), eight labels at a time.
-std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
-{
-  constexpr std::uint64_t kBits = 0x0101010101010101ull * kFeatureBit;
-  for (; u + 8 <= end; u += 8)
-  {
-    std::uint64_t w;
-    std::memcpy(&w, lab + u, sizeof w);
-    if (w & kBits) break;
-  }
-  while (u < end && (static_cast<std::uint8_t>(lab[u]) & kFeatureBit) == 0) ++u;
-  return u;
-}
-}  // namespace
-
-void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std::uint32_t b, std::uint32_t e,
-                                   bool closed, std::vector<Label>& labels)
-{
-  // Keep only the peak turning angle of each run of Edge candidates: a crease seen through
-  // chords of h samples lights up h samples on each side of it. Runs are followed around the
-  // seam of a closed ring, so a crease on the seam is kept once.
-  const std::uint32_t K = e - b;
-  if (K == 0) return;
-  // Raw pointers: a label store may alias anything, and reloads of the vectors' data pointers
-  // after each one kept the loops below from running lean.
-  Label* const lab = labels.data() + b;
-  const std::uint8_t* const linked = grid.linked.data() + b;
-  const float* const turning = f.turning.data() + b;
-  auto isFeature = [lab](std::uint32_t k) { return (static_cast<std::uint8_t>(lab[k]) & kFeatureBit) != 0; };
-  // start right after a break (a non-feature sample or a gap) so no run is entered midway
-  std::uint32_t start = 0;
-  if (closed)
-  {
-    std::uint32_t k = 0;
-    while (k < K && isFeature(k) && linked[k]) ++k;
-    if (k == K) return;  // the whole ring is one run: nothing to compare against
-    start = k;
-  }
-  // The walk visits u = start .. start + K - 1, at sample u or u - K: a wrap-around index
-  // instead of a division per sample.
-  const std::uint32_t end = start + K;
-  auto at = [K](std::uint32_t u) { return u < K ? u : u - K; };
-  for (std::uint32_t u = start; u < end;)
-  {
-    // most samples are no feature: skip them, before the seam and after it
-    if (u < K) u = nextFeature(lab, u, std::min(end, K));
-    if (u >= K) u = K + nextFeature(lab, u - K, end - K);
-    if (u == end) break;
-    // the run [u, v)
-    std::uint32_t v = u + 1;
-    for (; v < end; ++v)
-    {
-      const std::uint32_t k = at(v);
-      if (!isFeature(k) || !linked[k] || (!closed && k == 0)) break;
-    }
-    bool touches_corner = false;
-    std::uint32_t arg = K;
-    float best = -1.0f;
-    for (std::uint32_t w = u; w < v; ++w)
-    {
-      const std::uint32_t k = at(w);
-      if (lab[k] == Label::Corner)
-        touches_corner = true;
-      else if (turning[k] > best)
-      {
-        best = turning[k];
-        arg = k;
-      }
-    }
-    // a run touching a Corner is the jump's own footprint: the Corner already marks it
-    for (std::uint32_t w = u; w < v; ++w)
-    {
-      const std::uint32_t k = at(w);
-      if (lab[k] == Label::Edge && (k != arg || touches_corner)) lab[k] = Label::Plane;
-    }
-    u = v;
-  }
-}
-
-namespace
-{
-// Float bits mapped to an unsigned key of the same order (negatives reversed, then above positives).
-inline std::uint32_t orderedKey(float f)
+inline std::uint32_t bitsOf(float f)
 {
   std::uint32_t u;
   std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+inline float fromBits(std::uint32_t u)
+{
+  float f;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+// Nearest rank of quantile q of n values: floor(q * (n - 1)).
+inline std::size_t rankOf(std::size_t n, double q)
+{
+  return std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+}
+
+// Float bits mapped to an unsigned key of the same order (negatives reversed, then above positives).
+inline std::uint32_t orderedKey(float f)
+{
+  const std::uint32_t u = bitsOf(f);
   const std::uint32_t neg = static_cast<std::uint32_t>(-static_cast<std::int32_t>(u >> 31));
   return u ^ (neg | 0x80000000u);
 }
-}  // namespace
 
-namespace
-{
 // Value of rank k in v[0, n) (reordered, never overwritten).
 float selectRank(float* v, std::size_t n, std::size_t k)
 {
@@ -232,13 +137,30 @@ float selectRank(float* v, std::size_t n, std::size_t k)
 
 float selectQuantile(float* v, std::size_t n, double q)
 {
-  if (n == 0) return std::numeric_limits<float>::quiet_NaN();
-  // nearest-rank quantile: the value at position floor(q * (n - 1))
-  return selectRank(v, n, std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1))));
+  return n == 0 ? std::numeric_limits<float>::quiet_NaN() : selectRank(v, n, rankOf(n, q));
 }
 
 namespace
 {
+// The general path, for rings the bins below cannot order (values with the sign bit set).
+// Copies the finite values of v[b, e) to out (room for e - b); returns how many.
+std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, float* out)
+{
+  std::size_t n = 0;
+  for (std::uint32_t p = b; p < e; ++p)
+    if (std::isfinite(v[p])) out[n++] = v[p];
+  return n;
+}
+
+// median + k * 1.4826 * MAD of buf[0, n) (buf is reordered).
+float medianPlusKMad(float* buf, std::size_t n, float k)
+{
+  const float med = selectQuantile(buf, n, 0.5);
+  for (std::size_t i = 0; i < n; ++i) buf[i] = std::fabs(buf[i] - med);
+  const float mad = selectQuantile(buf, n, 0.5);
+  return med + k * kMadToSigma * mad;
+}
+
 // Ring features are non-negative (angles, variances, relative errors; NaN where undefined), and
 // the bits of a non-negative float order like the float: bits >> 20 (exponent and three mantissa
 // bits, eighths of a binade) bin a ring's values with no key transform, no min/max pass and no
@@ -247,21 +169,8 @@ namespace
 constexpr int kBinShift = 20;
 constexpr std::uint32_t kBins = 2048;        // every float with a clear sign bit
 constexpr std::uint32_t kFiniteBins = 2040;  // bins 2040..2047: +inf and NaN (exponent all ones)
-// Deviations from the median are binned finer, in 32nds of a binade (see binDeviations).
-constexpr int kDevShift = 18;
-
-inline std::uint32_t bitsOf(float f)
-{
-  std::uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-inline float fromBits(std::uint32_t u)
-{
-  float f;
-  std::memcpy(&f, &u, sizeof f);
-  return f;
-}
+inline float lowEdge(std::uint32_t bin) { return fromBits(bin << kBinShift); }
+inline float highEdge(std::uint32_t bin) { return fromBits(((bin + 1) << kBinShift) - 1); }
 
 // One ring's values by bin, and the copy-out of the values of wanted bins.
 struct BinnedRing
@@ -271,12 +180,13 @@ struct BinnedRing
   float* cand;         // the wanted values (n + 1)
   std::uint32_t count[kBins];
 
-  std::uint32_t size(std::uint32_t b) const { return count[b]; }
-
-  void countBins(std::size_t n)
+  // Counts the values per bin; returns how many are finite.
+  std::size_t countBins(std::size_t n)
   {
     std::memset(count, 0, sizeof count);
     for (std::size_t i = 0; i < n; ++i) ++count[bin[i]];
+    for (std::uint32_t b = kFiniteBins; b < kBins; ++b) n -= count[b];
+    return n;
   }
 
   // The bin of rank k, searched upwards from bin `from` with `below` values under it; on return
@@ -284,44 +194,22 @@ struct BinnedRing
   std::uint32_t find(std::size_t k, std::uint32_t from, std::size_t& below) const
   {
     std::uint32_t b = from;
-    // 16 bins at a time first: most bins are empty
-    for (; b + 16 <= kBins; b += 16)
+    for (; b + 16 <= kBins; b += 16)  // 16 bins at a time first: most bins are empty
     {
-      const std::size_t s = sum(b);
+      std::uint32_t s = 0;
+      for (std::uint32_t j = 0; j < 16; ++j) s += count[b + j];
       if (below + s > k) break;
       below += s;
     }
-    for (; below + size(b) <= k; ++b) below += size(b);
+    for (; below + count[b] <= k; ++b) below += count[b];
     return b;
   }
-  // The bin of rank k where no value lies in the bins (0, lowest) (see binValues).
-  std::uint32_t findAbove(std::size_t k, std::uint32_t lowest, std::size_t& below) const
+  // The same from the start, where no value lies in the bins (0, lowest) (see binValues).
+  std::uint32_t findFirst(std::size_t k, std::uint32_t lowest, std::size_t& below) const
   {
-    below = lowest > 0 ? size(0) : 0;  // only zeros in bin 0 then
-    if (below <= k) return find(k, lowest, below);
-    below = 0;
-    return 0;
-  }
-  // The same, from the top down for rank k counted from the top (k = 0 is the largest value),
-  // with `above` values over the bin found.
-  std::uint32_t findDown(std::size_t k, std::size_t& above) const
-  {
-    std::uint32_t b = kBins;  // one past the bin to look at next
-    above = 0;
-    for (; b >= 16; b -= 16)
-    {
-      const std::size_t s = sum(b - 16);
-      if (above + s > k) break;
-      above += s;
-    }
-    for (--b; above + size(b) <= k; --b) above += size(b);
-    return b;
-  }
-  std::size_t sum(std::uint32_t b) const  // bins [b, b + 16)
-  {
-    std::uint32_t s = 0;
-    for (std::uint32_t j = 0; j < 16; ++j) s += size(b + j);
-    return s;
+    below = lowest > 0 ? count[0] : 0;  // only zeros in bin 0 then
+    if (below > k) below = lowest = 0;  // one of them
+    return find(k, lowest, below);
   }
 
   // Copies value(i) of every i in bin b0 or b1 to cand; returns how many.
@@ -329,13 +217,20 @@ struct BinnedRing
   std::size_t gather(std::size_t n, std::uint32_t bin0, std::uint32_t bin1, Value value)
   {
     const auto b0 = static_cast<std::uint16_t>(bin0), b1 = static_cast<std::uint16_t>(bin1);
-    // flags first (vectorized; 16-bit bins compare 8 at a time), then copies only in the rare
-    // blocks of 8 holding a wanted one; local pointers, as a byte store may alias the members
+    // flags first (vectorized; 16-bit bins compare 8 at a time); local pointers, as a byte
+    // store may alias the members
     const std::uint16_t* const bn = bin;
     std::uint8_t* const fl = flag;
     for (std::size_t i = 0; i < n; ++i) fl[i] = static_cast<std::uint8_t>((bn[i] == b0) | (bn[i] == b1));
-    std::size_t m = 0, i = 0;
+    return copyFlagged(n, value);
+  }
+  // Copies value(i) of every flagged i to cand, only in the rare blocks of 8 holding one.
+  template <class Value>
+  std::size_t copyFlagged(std::size_t n, Value value)
+  {
+    const std::uint8_t* const fl = flag;
     float* const out = cand;
+    std::size_t m = 0, i = 0;
     auto copy = [&](std::size_t j) {
       out[m] = value(j);  // overwritten by the next one unless this one is wanted
       m += fl[j];
@@ -370,29 +265,54 @@ bool binValues(const float* x, std::size_t n, std::uint16_t* bin, std::uint32_t&
   return (sign >> 31) == 0;
 }
 
-// Bins of |x - med| for non-negative x with median med. The MAD is at most med (at least half of
-// the values lie in [0, med], within med of it), so the bins end with med's own (the top bin
-// but one): larger deviations, and NaN, all go to the top bin; the bins below cover 64 binades.
-void binDeviations(const float* x, std::size_t n, float med, std::uint16_t* bin)
+// The deviations |v - med| of the values of a bin lie between bounds set by the bin's edges
+// (float subtraction is monotonic), growing with the distance from med's bin on either side.
+// Taking med's bin, then the others in increasing order of their lower (upper) bound until more
+// than `rank` values are taken, the last bound taken is a lower (with med's bin's own, an upper)
+// bound of the rank-th deviation, the MAD.
+float deviationBound(const BinnedRing& r, std::uint32_t med_bin, float med, std::size_t rank, bool upper)
 {
-  const int base = static_cast<int>(bitsOf(med) >> kDevShift) - static_cast<int>(kBins - 2);
-  for (std::size_t i = 0; i < n; ++i)
+  const float own = upper ? std::max(highEdge(med_bin) - med, med - lowEdge(med_bin)) : 0.0f;
+  float d = own;
+  std::size_t seen = r.count[med_bin];
+  std::uint32_t up = med_bin + 1, dn = med_bin;  // next bin above; one past the next below
+  while (seen <= rank)
   {
-    const int b = static_cast<int>(bitsOf(std::fabs(x[i] - med)) >> kDevShift) - base;
-    bin[i] = static_cast<std::uint16_t>(std::min(std::max(b, 0), static_cast<int>(kBins - 1)));
+    while (up < kFiniteBins && r.count[up] == 0) ++up;
+    while (dn > 0 && r.count[dn - 1] == 0) --dn;
+    const float d_up = up < kFiniteBins ? (upper ? highEdge(up) : lowEdge(up)) - med : kInf;
+    const float d_dn = dn > 0 ? med - (upper ? lowEdge(dn - 1) : highEdge(dn - 1)) : kInf;
+    if (d_up <= d_dn)
+    {
+      d = d_up;
+      seen += r.count[up++];
+    }
+    else
+    {
+      d = d_dn;
+      seen += r.count[--dn];
+    }
   }
+  return std::max(d, own);
 }
 
-inline std::size_t rankOf(std::size_t n, double q)
+// Value of rank k in c[0, m) (m > k), the wanted bins' values. Few: counted for each value, those
+// below it and those not above it (branch-free and vectorized, where nth_element's comparisons
+// mispredict half the time; twice as fast up to ~50). Without -0 or NaN, equal means same bits.
+float selectCandidate(float* c, std::size_t m, std::size_t k)
 {
-  return std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
-}
-
-std::size_t finiteCount(const BinnedRing& r, std::size_t n)
-{
-  std::size_t non_finite = 0;
-  for (std::uint32_t b = kFiniteBins; b < kBins; ++b) non_finite += r.size(b);
-  return n - non_finite;
+  if (m > 48) return selectRank(c, m, k);
+  for (std::size_t i = 0;; ++i)
+  {
+    const float v = c[i];
+    std::uint32_t below = 0, not_above = 0;
+    for (std::size_t j = 0; j < m; ++j)
+    {
+      below += c[j] < v ? 1u : 0u;
+      not_above += c[j] <= v ? 1u : 0u;
+    }
+    if (below <= k && k < not_above) return v;
+  }
 }
 
 // Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
@@ -400,8 +320,7 @@ bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, fl
 {
   std::uint32_t lowest;
   if (!binValues(x, n, r.bin, lowest)) return false;
-  r.countBins(n);
-  const std::size_t finite = finiteCount(r, n);
+  const std::size_t finite = r.countBins(n);
   if (finite == 0)
   {
     lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
@@ -409,14 +328,14 @@ bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, fl
   }
   const std::size_t k_lo = rankOf(finite, 0.25), k_hi = rankOf(finite, 0.75);
   std::size_t below_lo = 0;
-  const std::uint32_t b_lo = r.findAbove(k_lo, lowest, below_lo);
+  const std::uint32_t b_lo = r.findFirst(k_lo, lowest, below_lo);
   std::size_t below_hi = below_lo;
   const std::uint32_t b_hi = r.find(k_hi, b_lo, below_hi);
   const std::size_t m = r.gather(n, b_lo, b_hi, [x](std::size_t i) { return x[i]; });
   // the candidates of the lower bin come first in the order of the values
-  const std::size_t r_hi = k_hi - below_hi + (b_hi != b_lo ? r.size(b_lo) : 0);
-  lo = selectRank(r.cand, m, k_lo - below_lo);
-  hi = selectRank(r.cand, m, r_hi);
+  const std::size_t r_hi = k_hi - below_hi + (b_hi != b_lo ? r.count[b_lo] : 0);
+  lo = selectCandidate(r.cand, m, k_lo - below_lo);
+  hi = selectCandidate(r.cand, m, r_hi);
   return true;
 }
 
@@ -426,22 +345,25 @@ bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r,
 {
   std::uint32_t lowest;
   if (!binValues(x, n, r.bin, lowest)) return false;
-  r.countBins(n);
-  const std::size_t finite = finiteCount(r, n);
+  const std::size_t finite = r.countBins(n);
   if (finite == 0) return true;
   const std::size_t rank = rankOf(finite, 0.5);
   std::size_t below = 0;
-  std::uint32_t b = r.findAbove(rank, lowest, below);
+  std::uint32_t b = r.findFirst(rank, lowest, below);
   std::size_t m = r.gather(n, b, b, [x](std::size_t i) { return x[i]; });
-  const float med = selectRank(r.cand, m, rank - below);
-  binDeviations(x, n, med, r.bin);
-  r.countBins(n);
-  // the MAD is usually within a binade under med's bin, at the top: search down from there
-  std::size_t above = 0;
-  b = r.findDown(n - 1 - rank, above);
-  below = n - above - r.size(b);
-  m = r.gather(n, b, b, [x, med](std::size_t i) { return std::fabs(x[i] - med); });
-  const float mad = selectRank(r.cand, m, rank - below);
+  const float med = selectCandidate(r.cand, m, rank - below);
+  const float lo = deviationBound(r, b, med, rank, false), hi = deviationBound(r, b, med, rank, true);
+  std::uint8_t* const flag = r.flag;
+  std::uint32_t under = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const float d = std::fabs(x[i] - med);  // NaN: in neither
+    under += d < lo ? 1u : 0u;
+    flag[i] = static_cast<std::uint8_t>((d >= lo) & (d <= hi));
+  }
+  below = under;
+  m = r.copyFlagged(n, [x, med](std::size_t i) { return std::fabs(x[i] - med); });
+  const float mad = selectCandidate(r.cand, m, rank - below);
   out = std::max(med + k * kMadToSigma * mad, out);
   return true;
 }
@@ -455,13 +377,10 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
   const float sigma = P.range_noise;
   std::uint32_t largest = 0;
   for (int n = 0; n < grid.num_rings; ++n) largest = std::max(largest, grid.ringSize(n));
-  if (scratch_.size() < largest + 1u) scratch_.resize(largest + 1u);
-  if (bin_.size() < largest) bin_.resize(largest);
-  if (flag_.size() < largest) flag_.resize(largest);
-  BinnedRing r;
-  r.bin = bin_.data();
-  r.flag = flag_.data();
-  r.cand = scratch_.data();
+  scratch_.resize(largest + 1u);  // grown once: no allocation in later frames
+  bin_.resize(largest);
+  flag_.resize(largest);
+  BinnedRing r{bin_.data(), flag_.data(), scratch_.data(), {}};
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
@@ -471,9 +390,9 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
       // Algorithm 1: Q25 and Q75 of each feature over the ring, each by one O(K) selection.
       auto quartiles = [&](const std::vector<float>& v, float& lo, float& hi) {
         if (binnedQuartiles(v.data() + b, e - b, r, lo, hi)) return;
-        const std::size_t k = gatherFinite(v, b, e, scratch_);
-        lo = selectQuantile(scratch_.data(), k, 0.25);
-        hi = selectQuantile(scratch_.data(), k, 0.75);
+        const std::size_t k = gatherFinite(v, b, e, r.cand);
+        lo = selectQuantile(r.cand, k, 0.25);
+        hi = selectQuantile(r.cand, k, 0.75);
         if (k == 0) lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
       };
       float s_lo;
@@ -486,8 +405,8 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
     auto robust = [&](const std::vector<float>& v, float floor) {
       float thr = floor;
       if (binnedMedianPlusKMad(v.data() + b, e - b, P.robust_k, r, thr)) return thr;
-      const std::size_t k = gatherFinite(v, b, e, scratch_);
-      return k ? std::max(medianPlusKMad(scratch_.data(), k, P.robust_k), floor) : floor;
+      const std::size_t k = gatherFinite(v, b, e, r.cand);
+      return k ? std::max(medianPlusKMad(r.cand, k, P.robust_k), floor) : floor;
     };
     t.curvature_high = robust(f.turning, P.edge_min_angle_deg * kDegToRad);
     t.curvature_low = t.curvature_high;
@@ -499,25 +418,40 @@ void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, cons
 
 namespace
 {
-// Per-ring labelling kernels: branch-free over raw pointers, so that they vectorize (the
-// division and the double product are cheap four or two at a time, and a label store would
-// otherwise make the compiler reload every pointer). An ablated feature (paper Table 2) reaches
-// them as a threshold no value exceeds. Isolated points (no feature defined) stay None.
-struct RingInput
+// Edge (2) and Corner (3) are the labels with this bit, Rough (4) and the others are not.
+constexpr std::uint8_t kFeatureBit = 2;
+static_assert(static_cast<int>(Label::Edge) == 2 && static_cast<int>(Label::Corner) == 3 &&
+                  static_cast<int>(Label::Rough) == 4 && static_cast<int>(Label::Plane) == 1,
+              "kFeatureBit picks Edge and Corner");
+
+// First k in [u, end) with an Edge or Corner (end if none), eight labels at a time.
+std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
 {
-  const float *curvature, *turning, *smoothness, *discontinuity;
-  const double* range;
-  Label* label;
-  std::size_t n;
-};
+  constexpr std::uint64_t kBits = 0x0101010101010101ull * kFeatureBit;
+  for (; u + 8 <= end; u += 8)
+  {
+    std::uint64_t w;
+    std::memcpy(&w, lab + u, sizeof w);
+    if (w & kBits) break;
+  }
+  while (u < end && (static_cast<std::uint8_t>(lab[u]) & kFeatureBit) == 0) ++u;
+  return u;
+}
+
+// Labelling kernels for grid positions [b, b + n): branch-free over raw pointers, so that they
+// vectorize (the division and the double product are cheap four or two at a time, and a label
+// store would otherwise make the compiler reload every pointer). An ablated feature (paper
+// Table 2) reaches them as a threshold no value exceeds. Isolated points stay None.
 
 // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
-void labelQuartile(const RingInput& in, const RingThresholds& t, bool use_curvature)
+void labelQuartile(const Features& f, std::size_t b, std::size_t n, const RingThresholds& t, bool use_curvature,
+                   Label* label)
 {
-  const float *const kap = in.curvature, *const sm = in.smoothness, *const dis = in.discontinuity;
-  std::uint8_t* const lab = reinterpret_cast<std::uint8_t*>(in.label);
+  const float *const kap = f.curvature.data() + b, *const sm = f.smoothness.data() + b,
+              *const dis = f.discontinuity.data() + b;
+  std::uint8_t* const lab = reinterpret_cast<std::uint8_t*>(label + b);
   const bool no_curvature = !use_curvature;
-  for (std::size_t i = 0; i < in.n; ++i)
+  for (std::size_t i = 0; i < n; ++i)
   {
     const float k = kap[i], S = sm[i], D = dis[i];
     const bool edge = use_curvature & (k > t.curvature_high);
@@ -534,13 +468,14 @@ void labelQuartile(const RingInput& in, const RingThresholds& t, bool use_curvat
 
 // Robust rules: a turn or a jump counts only above its ring's threshold and above noise.
 template <bool kJump>
-void labelRobust(const RingInput& in, const RingThresholds& t, float turn_noise, double jump_noise)
+void labelRobust(const Features& f, const double* range_b, std::size_t b, std::size_t n, const RingThresholds& t,
+                 float turn_noise, double jump_noise, Label* label)
 {
-  const float *const kap = in.curvature, *const turning = in.turning, *const sm = in.smoothness,
-              *const dis = in.discontinuity;
-  const double* const range = in.range;
-  std::uint8_t* const lab = reinterpret_cast<std::uint8_t*>(in.label);
-  for (std::size_t i = 0; i < in.n; ++i)
+  const float *const kap = f.curvature.data() + b, *const turning = f.turning.data() + b,
+              *const sm = f.smoothness.data() + b, *const dis = f.discontinuity.data() + b;
+  const double* const range = range_b + b;
+  std::uint8_t* const lab = reinterpret_cast<std::uint8_t*>(label + b);
+  for (std::size_t i = 0; i < n; ++i)
   {
     const float k = kap[i], turn = turning[i], S = sm[i], D = dis[i];
     // kappa = turning / chord length, and chord 0 where kappa <= 0: the quotient is masked to
@@ -563,6 +498,70 @@ void labelRobust(const RingInput& in, const RingThresholds& t, float turn_noise,
 }
 }  // namespace
 
+void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std::uint32_t b, std::uint32_t e,
+                                   bool closed, std::vector<Label>& labels)
+{
+  // Keep only the peak turning angle of each run of Edge candidates: a crease seen through
+  // chords of h samples lights up h samples on each side of it. Runs are followed around the
+  // seam of a closed ring, so a crease on the seam is kept once.
+  const std::uint32_t K = e - b;
+  if (K == 0) return;
+  // Raw pointers: a label store may alias anything, and reloads of the vectors' data pointers
+  // after each one kept the loops below from running lean.
+  Label* const lab = labels.data() + b;
+  const std::uint8_t* const linked = grid.linked.data() + b;
+  const float* const turning = f.turning.data() + b;
+  auto isFeature = [lab](std::uint32_t k) { return (static_cast<std::uint8_t>(lab[k]) & kFeatureBit) != 0; };
+  // start right after a break (a non-feature sample or a gap) so no run is entered midway
+  std::uint32_t start = 0;
+  if (closed)
+  {
+    std::uint32_t k = 0;
+    while (k < K && isFeature(k) && linked[k]) ++k;
+    if (k == K) return;  // the whole ring is one run: nothing to compare against
+    start = k;
+  }
+  // The walk visits u = start .. start + K - 1, at sample u or u - K: a wrap-around index
+  // instead of a division per sample.
+  const std::uint32_t end = start + K;
+  auto at = [K](std::uint32_t u) { return u < K ? u : u - K; };
+  for (std::uint32_t u = start; u < end;)
+  {
+    // most samples are no feature: skip them, before the seam and after it
+    if (u < K) u = nextFeature(lab, u, std::min(end, K));
+    if (u >= K) u = K + nextFeature(lab, u - K, end - K);
+    if (u == end) break;
+    // the run [u, v)
+    std::uint32_t v = u + 1;
+    for (; v < end; ++v)
+    {
+      const std::uint32_t k = at(v);
+      if (!isFeature(k) || !linked[k] || (!closed && k == 0)) break;
+    }
+    bool touches_corner = false;
+    std::uint32_t arg = K;
+    float best = -1.0f;
+    for (std::uint32_t w = u; w < v; ++w)
+    {
+      const std::uint32_t k = at(w);
+      if (lab[k] == Label::Corner)
+        touches_corner = true;
+      else if (turning[k] > best)
+      {
+        best = turning[k];
+        arg = k;
+      }
+    }
+    // a run touching a Corner is the jump's own footprint: the Corner already marks it
+    for (std::uint32_t w = u; w < v; ++w)
+    {
+      const std::uint32_t k = at(w);
+      if (lab[k] == Label::Edge && (k != arg || touches_corner)) lab[k] = Label::Plane;
+    }
+    u = v;
+  }
+}
+
 void Classifier::classify(const ScanGrid& grid, const Features& f, const Params& P,
                           const std::vector<RingThresholds>& thr, std::vector<Label>& labels)
 {
@@ -575,21 +574,17 @@ void Classifier::classify(const ScanGrid& grid, const Features& f, const Params&
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
-    const RingInput in{f.curvature.data() + b, f.turning.data() + b, f.smoothness.data() + b,
-                       f.discontinuity.data() + b, grid.range.data() + b, labels.data() + b, e - b};
     RingThresholds t = thr[static_cast<std::size_t>(n)];
     // ablations (paper Table 2) drop a feature entirely: no value passes its threshold
     if (!P.use_smoothness) t.smoothness_high = kInf;
     if (quartile)
     {
-      labelQuartile(in, t, P.use_curvature);
+      labelQuartile(f, b, e - b, t, P.use_curvature, labels.data());
       continue;
     }
     if (!P.use_curvature) t.curvature_high = kInf;
-    if (jump_mode)
-      labelRobust<true>(in, t, turn_noise, static_cast<double>(jump_noise));
-    else
-      labelRobust<false>(in, t, turn_noise, static_cast<double>(jump_noise));
+    (jump_mode ? labelRobust<true> : labelRobust<false>)(f, grid.range.data(), b, e - b, t, turn_noise,
+                                                         static_cast<double>(jump_noise), labels.data());
     if (P.non_max_suppression)
       suppressNonMaxima(grid, f, b, e, grid.ring_closed[static_cast<std::size_t>(n)] != 0, labels);
   }
