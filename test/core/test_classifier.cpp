@@ -2,6 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 
 #include "../support/ray_scene.hpp"
@@ -26,6 +30,207 @@ TEST(Classifier, SelectQuantileMatchesSortedReference)
       const std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
       EXPECT_EQ(selectQuantile(w.data(), n, q), sorted[k]) << n << " " << q;
     }
+  }
+}
+
+namespace
+{
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// Test values of a few kinds: spread (exponential), duplicate-heavy, mostly zeros with tiny
+// (denormal) and infinite ones, all equal, spread over the whole float range, and with negative
+// values and -0 (which the ring thresholds leave to their general path).
+float testValue(std::mt19937& rng, int kind)
+{
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const float p = u(rng);
+  switch (kind)
+  {
+    case 0: return -std::log(1.0f - p) * 0.01f;
+    case 1: return std::array<float, 5>{0.0f, 1e-3f, 0.5f, 0.5f, 2.0f}[static_cast<std::size_t>(p * 5) % 5];
+    case 2: return p < 0.6f ? 0.0f : p < 0.8f ? 1e-42f * p : p < 0.9f ? kInf : p;
+    case 3: return 0.25f;
+    case 4: return std::pow(10.0f, 76.0f * p - 38.0f);
+    default: return p < 0.1f ? -0.0f : p < 0.2f ? 0.0f : p < 0.3f ? -kInf : (p - 0.5f) * 8.0f;
+  }
+}
+constexpr int kKinds = 6;
+}  // namespace
+
+TEST(Classifier, SelectQuantileMatchesNthElement)
+{
+  // the sizes cover a single value, the nth_element-only path, one and several radix passes and
+  // more candidates than fit the local buffer
+  std::mt19937 rng(5);
+  for (std::size_t n : {1u, 2u, 31u, 33u, 100u, 1000u, 9000u})
+    for (int kind = 0; kind < kKinds; ++kind)
+    {
+      std::vector<float> v(n);
+      for (auto& x : v) x = testValue(rng, kind);
+      for (double q : {0.0, 0.25, 0.3, 0.5, 0.75, 1.0})
+      {
+        std::vector<float> ref = v, w = v;
+        const std::size_t k = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+        std::nth_element(ref.begin(), ref.begin() + static_cast<std::ptrdiff_t>(k), ref.end());
+        EXPECT_EQ(selectQuantile(w.data(), n, q), ref[k]) << n << " " << kind << " " << q;
+        // reordered, never overwritten
+        std::vector<float> a = v;
+        auto bitsLess = [](float x, float y) { return std::memcmp(&x, &y, sizeof x) < 0; };
+        std::sort(a.begin(), a.end(), bitsLess);
+        std::sort(w.begin(), w.end(), bitsLess);
+        EXPECT_EQ(std::memcmp(a.data(), w.data(), n * sizeof(float)), 0) << n << " " << kind << " " << q;
+      }
+    }
+}
+
+TEST(Classifier, RingThresholdsMatchNthElementReference)
+{
+  // Rings of every kind and size (NaN where a feature is undefined), against the thresholds
+  // defined the plain way: nearest-rank selection by nth_element over the finite values.
+  std::mt19937 rng(9);
+  ScanGrid grid;
+  Features f;
+  grid.ring_begin.push_back(0);
+  for (std::size_t n : {0u, 1u, 5u, 40u, 300u, 2000u})
+    for (int kind = 0; kind < kKinds; ++kind)
+    {
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        const bool undefined = rng() % 16 == 0;
+        f.turning.push_back(undefined ? kNaN : testValue(rng, kind));
+        f.curvature.push_back(undefined ? kNaN : testValue(rng, kind));
+        f.smoothness.push_back(rng() % 16 == 0 ? kNaN : testValue(rng, kind));
+        f.discontinuity.push_back(rng() % 16 == 0 ? kNaN : testValue(rng, kind));
+      }
+      grid.ring_begin.push_back(static_cast<std::uint32_t>(f.turning.size()));
+    }
+  grid.num_rings = static_cast<int>(grid.ring_begin.size()) - 1;
+  auto finite = [&](const std::vector<float>& v, int ring) {
+    std::vector<float> out;
+    for (std::uint32_t p = grid.ring_begin[ring]; p < grid.ring_begin[ring + 1]; ++p)
+      if (std::isfinite(v[p])) out.push_back(v[p]);
+    return out;
+  };
+  auto nth = [](std::vector<float> v, double q) {
+    const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1)));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  };
+  Params P;
+  P.edge_min_angle_deg = -kInf;  // no floors but the smoothness one, 0 for range_noise 0
+  P.jump_min_ratio = -kInf;
+  P.range_noise = 0.0f;
+  Classifier c;
+  std::vector<RingThresholds> thr;
+  c.computeThresholds(grid, f, P, thr);
+  for (int ring = 0; ring < grid.num_rings; ++ring)
+  {
+    auto robust = [&](const std::vector<float>& feature, float floor) {
+      const std::vector<float> v = finite(feature, ring);
+      if (v.empty()) return floor;
+      const float med = nth(v, 0.5);
+      std::vector<float> d;
+      for (float x : v) d.push_back(std::fabs(x - med));
+      return std::max(med + P.robust_k * 1.4826f * nth(d, 0.5), floor);
+    };
+    const RingThresholds& t = thr[static_cast<std::size_t>(ring)];
+    EXPECT_EQ(t.curvature_high, robust(f.turning, -kInf)) << ring;
+    EXPECT_EQ(t.smoothness_high, robust(f.smoothness, 0.0f)) << ring;
+    EXPECT_EQ(t.discontinuity_high, robust(f.discontinuity, -kInf)) << ring;
+  }
+  P.classifier_mode = ClassifierMode::Quartile;
+  c.computeThresholds(grid, f, P, thr);
+  for (int ring = 0; ring < grid.num_rings; ++ring)
+  {
+    auto quartile = [&](const std::vector<float>& feature, double q) {
+      const std::vector<float> v = finite(feature, ring);
+      return v.empty() ? kInf : nth(v, q);
+    };
+    const RingThresholds& t = thr[static_cast<std::size_t>(ring)];
+    EXPECT_EQ(t.curvature_low, quartile(f.curvature, 0.25)) << ring;
+    EXPECT_EQ(t.curvature_high, quartile(f.curvature, 0.75)) << ring;
+    EXPECT_EQ(t.smoothness_high, quartile(f.smoothness, 0.75)) << ring;
+    EXPECT_EQ(t.discontinuity_low, quartile(f.discontinuity, 0.25)) << ring;
+    EXPECT_EQ(t.discontinuity_high, quartile(f.discontinuity, 0.75)) << ring;
+  }
+}
+
+TEST(Classifier, LabelsFollowTheRulesPointByPoint)
+{
+  // The vectorized labelling against the rules written out per point, in every mode and
+  // ablation (non-max suppression off: it only demotes Edges afterwards).
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  ScanGrid grid;
+  Features f;
+  grid.ring_begin = {0};
+  for (int ring = 0; ring < 8; ++ring)
+  {
+    for (int i = 0; i < 500 + 37 * ring; ++i)
+    {
+      auto value = [&](float scale) { return u(rng) < 0.05f ? kNaN : scale * std::pow(u(rng), 3.0f); };
+      f.turning.push_back(value(1.0f));
+      f.curvature.push_back(u(rng) < 0.02f ? 0.0f : value(5.0f));
+      f.smoothness.push_back(value(1e-3f));
+      f.discontinuity.push_back(value(0.2f));
+      grid.range.push_back(0.5 + 30.0 * static_cast<double>(u(rng)));
+      grid.index.push_back(static_cast<std::uint32_t>(grid.index.size()));
+    }
+    grid.ring_begin.push_back(static_cast<std::uint32_t>(grid.index.size()));
+  }
+  grid.num_rings = 8;
+  for (int mode = 0; mode < 12; ++mode)
+  {
+    Params P;
+    P.non_max_suppression = false;
+    P.classifier_mode = mode < 4 ? ClassifierMode::Quartile : ClassifierMode::Robust;
+    P.discontinuity_mode = mode >= 8 ? DiscontinuityMode::Paper : DiscontinuityMode::Jump;
+    P.use_curvature = mode % 4 != 1;
+    P.use_smoothness = mode % 4 != 2;
+    P.edge_min_angle_deg = 5.0f;
+    Classifier c;
+    std::vector<RingThresholds> thr;
+    std::vector<Label> labels;
+    c.computeThresholds(grid, f, P, thr);
+    c.classify(grid, f, P, thr, labels);
+    const float noise = P.noise_floor_k * 2.45f * P.range_noise;
+    for (int ring = 0; ring < grid.num_rings; ++ring)
+      for (std::uint32_t p = grid.ring_begin[ring]; p < grid.ring_begin[ring + 1]; ++p)
+      {
+        const RingThresholds& t = thr[static_cast<std::size_t>(ring)];
+        const float kappa = P.use_curvature ? f.curvature[p] : kNaN;
+        const float S = P.use_smoothness ? f.smoothness[p] : kNaN, D = f.discontinuity[p];
+        Label l = Label::Plane;
+        if (std::isnan(f.smoothness[p]) && std::isnan(f.curvature[p]) && std::isnan(D))
+          l = Label::None;
+        else if (P.classifier_mode == ClassifierMode::Quartile)
+        {
+          if (S > t.smoothness_high)
+            l = Label::Rough;
+          else if ((kappa < t.curvature_low || !P.use_curvature) && D < t.discontinuity_low)
+            l = Label::Plane;
+          else if ((kappa > t.curvature_high || !P.use_curvature) && D > t.discontinuity_high)
+            l = Label::Corner;
+          else if (kappa > t.curvature_high)
+            l = Label::Edge;
+        }
+        else
+        {
+          const float turn = P.use_curvature ? f.turning[p] : kNaN;
+          const float chord = kappa > 0 ? turn / kappa : 0.0f;
+          bool jump_high = D > t.discontinuity_high;
+          if (P.discontinuity_mode == DiscontinuityMode::Jump)
+            jump_high = jump_high && static_cast<double>(D) * grid.range[p] > static_cast<double>(noise);
+          if (S > t.smoothness_high)
+            l = Label::Rough;
+          else if (jump_high)
+            l = Label::Corner;
+          else if (turn > t.curvature_high && turn * chord > noise)
+            l = Label::Edge;
+        }
+        ASSERT_EQ(static_cast<int>(labels[p]), static_cast<int>(l)) << "mode " << mode << " at " << p;
+      }
   }
 }
 
