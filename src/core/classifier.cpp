@@ -420,9 +420,9 @@ namespace
 {
 // Edge (2) and Corner (3) are the labels with this bit, Rough (4) and the others are not.
 constexpr std::uint8_t kFeatureBit = 2;
+inline bool isFeature(Label l) { return (static_cast<std::uint8_t>(l) & kFeatureBit) != 0; }
 static_assert(static_cast<int>(Label::Edge) == 2 && static_cast<int>(Label::Corner) == 3 &&
-                  static_cast<int>(Label::Rough) == 4 && static_cast<int>(Label::Plane) == 1,
-              "kFeatureBit picks Edge and Corner");
+              static_cast<int>(Label::Rough) == 4 && static_cast<int>(Label::Plane) == 1, "see kFeatureBit");
 
 // First k in [u, end) with an Edge or Corner (end if none), eight labels at a time.
 std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
@@ -432,9 +432,18 @@ std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
   {
     std::uint64_t w;
     std::memcpy(&w, lab + u, sizeof w);
-    if (w & kBits) break;
+    if ((w & kBits) == 0) continue;
+    // the samples before the first feature of the eight, counted without a branch to mispredict
+    std::uint32_t before = 0;
+    bool seen = false;
+    for (std::uint32_t j = 0; j < 8; ++j)
+    {
+      seen |= isFeature(lab[u + j]);
+      before += seen ? 0 : 1;
+    }
+    return u + before;
   }
-  while (u < end && (static_cast<std::uint8_t>(lab[u]) & kFeatureBit) == 0) ++u;
+  while (u < end && !isFeature(lab[u])) ++u;
   return u;
 }
 
@@ -511,13 +520,12 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
   Label* const lab = labels.data() + b;
   const std::uint8_t* const linked = grid.linked.data() + b;
   const float* const turning = f.turning.data() + b;
-  auto isFeature = [lab](std::uint32_t k) { return (static_cast<std::uint8_t>(lab[k]) & kFeatureBit) != 0; };
   // start right after a break (a non-feature sample or a gap) so no run is entered midway
   std::uint32_t start = 0;
   if (closed)
   {
     std::uint32_t k = 0;
-    while (k < K && isFeature(k) && linked[k]) ++k;
+    while (k < K && isFeature(lab[k]) && linked[k]) ++k;
     if (k == K) return;  // the whole ring is one run: nothing to compare against
     start = k;
   }
@@ -536,27 +544,25 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
     for (; v < end; ++v)
     {
       const std::uint32_t k = at(v);
-      if (!isFeature(k) || !linked[k] || (!closed && k == 0)) break;
+      if (!isFeature(lab[k]) || !linked[k] || (!closed && k == 0)) break;
     }
+    // (branch-free: Edges and Corners, and the turns within a run, come in no predictable order)
     bool touches_corner = false;
     std::uint32_t arg = K;
     float best = -1.0f;
     for (std::uint32_t w = u; w < v; ++w)
     {
       const std::uint32_t k = at(w);
-      if (lab[k] == Label::Corner)
-        touches_corner = true;
-      else if (turning[k] > best)
-      {
-        best = turning[k];
-        arg = k;
-      }
+      const bool corner = lab[k] == Label::Corner, better = !corner && turning[k] > best;
+      touches_corner |= corner;
+      best = better ? turning[k] : best;
+      arg = better ? k : arg;
     }
     // a run touching a Corner is the jump's own footprint: the Corner already marks it
     for (std::uint32_t w = u; w < v; ++w)
     {
       const std::uint32_t k = at(w);
-      if (lab[k] == Label::Edge && (k != arg || touches_corner)) lab[k] = Label::Plane;
+      lab[k] = lab[k] == Label::Edge && (k != arg || touches_corner) ? Label::Plane : lab[k];
     }
     u = v;
   }
