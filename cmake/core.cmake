@@ -3,6 +3,7 @@ add_library(ring_curvature_core
   src/core/types.cpp
   src/core/params.cpp
   src/core/scan_grid.cpp
+  src/core/grid_input.cpp
   src/core/ring_sort.cpp
   src/core/cloud_view_checks.cpp
   src/core/features.cpp

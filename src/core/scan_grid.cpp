@@ -1,8 +1,10 @@
-// Builds the ring x azimuth scan grid in O(n): counting sort by ring, then a bucket sort by
-// azimuth within each ring (rings arrive nearly sorted, so buckets hold one or two points).
+// Builds the ring x azimuth scan grid in O(n): the input pass (grid_input.cpp), a counting sort
+// by ring and an insertion sort by azimuth within each ring (ring_sort.cpp), then the measured
+// resolution, dual returns, the gather in grid order, links along rings and across them.
 #include "ring_curvature/scan_grid.hpp"
 
 #include "cloud_view_checks.hpp"
+#include "record_read.hpp"
 #include "simd_clones.hpp"
 
 #include "ring_curvature/classifier.hpp"  // selectQuantile
@@ -11,7 +13,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <sstream>
 
 namespace ring_curvature
 {
@@ -26,74 +27,6 @@ float wrapPi(float a)
   if (a >= kPi) a -= kTwoPi;
   if (a < -kPi) a += kTwoPi;
   return a;
-}
-
-inline double readCoord(const std::uint8_t* rec, const FieldView& f)
-{
-  if (f.type == ScalarType::Float32) return readFloat32(rec + f.offset);
-  double d;
-  std::memcpy(&d, rec + f.offset, sizeof d);
-  return d;
-}
-}  // namespace
-
-namespace
-{
-// The common layout (velodyne, unorganized ouster: float32 x, y, z and a uint16 ring at fixed
-// offsets of `step`-byte records), read in one loop without branches, early exits or per-point
-// dispatch on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES).
-// Validity is the range test (NaN and inf fail both comparisons); the entries of invalid points
-// are written too (paz / py then hold values nothing reads). Returns the largest ring read, so
-// the caller can reject the frame after the loop.
-RC_SIMD_CLONES std::uint32_t readXyzRing16(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
-                                           std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
-                                           double rmin, double rmax, double* __restrict range_out,
-                                           float* __restrict px, float* __restrict py,
-                                           std::int32_t* __restrict ring_out, PointState* __restrict state,
-                                           std::int32_t* __restrict grid_pos)
-{
-  std::uint32_t max_read = 0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::uint8_t* const rec = data + i * step;
-    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
-    std::uint16_t r16;
-    std::memcpy(&r16, rec + oring, sizeof r16);
-    max_read = std::max<std::uint32_t>(max_read, r16);
-    const double x = fx, y = fy, z = fz;
-    const double range = std::sqrt(x * x + y * y + z * z);
-    const bool valid = (range >= rmin) & (range <= rmax);
-    range_out[i] = range;
-    px[i] = fx;
-    py[i] = fy;
-    ring_out[i] = valid ? r16 : -1;
-    state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-    grid_pos[i] = -1;
-  }
-  return max_read;
-}
-
-// One row of an organized float32 cloud, all on ring `ring`: as readXyzRing16, without a ring field.
-RC_SIMD_CLONES void readXyzRow(const std::uint8_t* __restrict data, std::size_t n, std::size_t step, std::size_t ox,
-                               std::size_t oy, std::size_t oz, std::int32_t ring, double rmin, double rmax,
-                               double* __restrict range_out, float* __restrict px, float* __restrict py,
-                               std::int32_t* __restrict ring_out, PointState* __restrict state,
-                               std::int32_t* __restrict grid_pos)
-{
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::uint8_t* const rec = data + i * step;
-    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
-    const double x = fx, y = fy, z = fz;
-    const double range = std::sqrt(x * x + y * y + z * z);
-    const bool valid = (range >= rmin) & (range <= rmax);
-    range_out[i] = range;
-    px[i] = fx;
-    py[i] = fy;
-    ring_out[i] = valid ? ring : -1;
-    state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-    grid_pos[i] = -1;
-  }
 }
 
 // Grid coordinates from the input records in grid order (float32 widens to double exactly): a
@@ -113,11 +46,6 @@ RC_SIMD_CLONES void gatherXyz(const std::uint8_t* __restrict data, std::size_t m
   }
 }
 
-// Azimuths of every point at once (fastAtan2 is branch-free: 4 or 8 at a time).
-RC_SIMD_CLONES void azimuths(std::size_t n, float* __restrict x_then_azimuth, const float* __restrict y)
-{
-  for (std::size_t i = 0; i < n; ++i) x_then_azimuth[i] = fastAtan2(y[i], x_then_azimuth[i]);
-}
 }  // namespace
 
 int ScanGrid::ringOf(std::uint32_t pos) const
@@ -252,159 +180,6 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   return Status::success();
 }
 
-
-Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid)
-{
-  const std::size_t n = view.size();
-  grid.num_input = n;
-  // Every entry of these is written below (no fill first: one pass over the frame instead of two).
-  grid.state.resize(n);
-  grid.grid_pos.resize(n);
-  ring_of_.resize(n);
-  prange_.resize(n);
-  paz_.resize(n);
-  tmp_f_.resize(n);  // y of each point until the azimuths are computed (paz_ holds x)
-  const double rmin = params.min_range, rmax = params.max_range;
-  const auto ringError = [&](std::size_t i, std::int64_t r) {
-    std::ostringstream s;
-    s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
-    return Status::error(s.str());
-  };
-  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
-                    view.z.type == ScalarType::Float32;
-  if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
-  {
-    const std::uint32_t max_read = readXyzRing16(
-        view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
-        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), rmin, rmax,
-        prange_.data(), paz_.data(), tmp_f_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
-    if (max_read >= static_cast<std::uint32_t>(params.max_rings))
-    {
-      for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
-      {
-        std::uint16_t r16;
-        std::memcpy(&r16, view.data + i * view.point_step + view.ring.offset, sizeof r16);
-        if (r16 >= params.max_rings) return ringError(i, r16);
-      }
-    }
-  }
-  else if (fast && view.organized())
-  {
-    // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
-    for (std::uint32_t row = 0; row < view.height; ++row)
-    {
-      const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
-      const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
-      readXyzRow(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
-                 static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
-                 static_cast<std::int32_t>(row), rmin, rmax, prange_.data() + i0, paz_.data() + i0, tmp_f_.data() + i0,
-                 ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
-      if (!view.ring.present()) continue;
-      const std::uint8_t* rec = data + view.ring.offset;
-      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
-      {
-        const std::int64_t r = readInteger(rec, view.ring.type);
-        if (r < 0 || r >= params.max_rings) return ringError(i0 + col, r);
-      }
-    }
-  }
-  else
-  {
-    for (std::uint32_t row = 0; row < view.height; ++row)
-    {
-      const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
-      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
-      {
-        const std::size_t i = static_cast<std::size_t>(row) * view.width + col;
-        int ring = static_cast<int>(row);
-        if (view.ring.present())
-        {
-          const std::int64_t r = readInteger(rec + view.ring.offset, view.ring.type);
-          if (r < 0 || r >= params.max_rings) return ringError(i, r);
-          if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
-        }
-        const double x = readCoord(rec, view.x), y = readCoord(rec, view.y), z = readCoord(rec, view.z);
-        const double range = std::sqrt(x * x + y * y + z * z);
-        const bool valid = range >= rmin && range <= rmax;  // NaN and inf fail both
-        prange_[i] = range;
-        paz_[i] = static_cast<float>(x);
-        tmp_f_[i] = static_cast<float>(y);
-        ring_of_[i] = valid ? ring : -1;
-        grid.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-        grid.grid_pos[i] = -1;
-      }
-    }
-  }
-  // Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
-  // increments would keep the loops above from vectorizing.
-  // Four interleaved tallies, summed after: rings that arrive one after another (KITTI's, an
-  // organized cloud's) would otherwise chain every increment to the store of the one before.
-  const std::size_t slots = static_cast<std::size_t>(params.max_rings) + 1;
-  ring_count_.assign(4 * slots, 0);
-  {
-    std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
-    const std::int32_t* const ring = ring_of_.data();
-    std::size_t i = 0;
-    for (; i + 4 <= n; i += 4)
-    {
-      ++count[ring[i]];
-      ++count[slots + static_cast<std::size_t>(ring[i + 1])];
-      ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
-      ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
-    }
-    for (; i < n; ++i) ++count[ring[i]];
-    for (std::size_t r = 0; r < slots; ++r)
-      ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
-  }
-  int max_ring = -1;
-  for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
-    if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
-  azimuths(n, paz_.data(), tmp_f_.data());
-  grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
-  return Status::success();
-}
-
-void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)
-{
-  // Histogram of elevation at 0.05 deg; runs of occupied bins (a beam's spread) become rings,
-  // numbered from the lowest elevation up (the velodyne convention).
-  constexpr int kBins = 3600;
-  constexpr float kBinRad = kPi / kBins;
-  const std::size_t n = grid.num_input;
-  counts_.assign(kBins, 0);
-  tmp_f_.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (ring_of_[i] < 0) continue;
-    const std::uint8_t* rec = view.record(i);  // unorganized here: no per-point division cost
-    const double x = readCoord(rec, view.x), y = readCoord(rec, view.y), z = readCoord(rec, view.z);
-    const float horiz = static_cast<float>(std::sqrt(x * x + y * y));
-    const float el = fastAtan2(static_cast<float>(z), horiz);
-    tmp_f_[i] = el;
-    const int b = std::clamp(static_cast<int>((el + kPi / 2) / kBinRad), 0, kBins - 1);
-    ++counts_[static_cast<std::size_t>(b)];
-  }
-  bin_start_.assign(kBins, 0);  // ring id of each bin
-  int ring = -1;
-  int last_occupied = -10;
-  for (int b = 0; b < kBins; ++b)
-  {
-    if (counts_[static_cast<std::size_t>(b)] == 0) continue;
-    if (b - last_occupied > 2) ++ring;  // a gap of two empty bins (0.1 deg) separates beams
-    last_occupied = b;
-    bin_start_[static_cast<std::size_t>(b)] = static_cast<std::uint32_t>(ring);
-  }
-  const int num = std::min(ring + 1, params.max_rings);
-  std::fill(ring_count_.begin() + 1, ring_count_.end(), 0u);  // recounted for the new rings
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (ring_of_[i] < 0) continue;
-    const int b = std::clamp(static_cast<int>((tmp_f_[i] + kPi / 2) / kBinRad), 0, kBins - 1);
-    ring_of_[i] = std::min(static_cast<int>(bin_start_[static_cast<std::size_t>(b)]), num - 1);
-    ++ring_count_[static_cast<std::size_t>(ring_of_[i]) + 1];
-  }
-  grid.num_rings = std::max(num, 0);
-}
 
 void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
 {
