@@ -1,5 +1,6 @@
 // Per-ring thresholds by exact O(K) selection (never a sort) and the labelling rules.
 #include "ring_curvature/classifier.hpp"
+#include "simd_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -251,7 +252,7 @@ struct BinnedRing
 // which the bins cannot order: the caller takes the general path then. `lowest` is the bin of
 // the smallest value other than +0 (zeros are common, and a search up from bin 0 would cross
 // every empty bin between them and the rest).
-bool binValues(const float* x, std::size_t n, std::uint16_t* bin, std::uint32_t& lowest)
+RC_SIMD_CLONES bool binValues(const float* x, std::size_t n, std::uint16_t* bin, std::uint32_t& lowest)
 {
   std::uint32_t sign = 0, low = 0xFFFFFFFFu;
   for (std::size_t i = 0; i < n; ++i)
@@ -270,7 +271,7 @@ bool binValues(const float* x, std::size_t n, std::uint16_t* bin, std::uint32_t&
 // Taking med's bin, then the others in increasing order of their lower (upper) bound until more
 // than `rank` values are taken, the last bound taken is a lower (with med's bin's own, an upper)
 // bound of the rank-th deviation, the MAD.
-float deviationBound(const BinnedRing& r, std::uint32_t med_bin, float med, std::size_t rank, bool upper)
+RC_SIMD_CLONES float deviationBound(const BinnedRing& r, std::uint32_t med_bin, float med, std::size_t rank, bool upper)
 {
   const float own = upper ? std::max(highEdge(med_bin) - med, med - lowEdge(med_bin)) : 0.0f;
   float d = own;
@@ -316,7 +317,7 @@ float selectCandidate(float* c, std::size_t m, std::size_t k)
 }
 
 // Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
-bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
+RC_SIMD_CLONES bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
 {
   std::uint32_t lowest;
   if (!binValues(x, n, r.bin, lowest)) return false;
@@ -341,7 +342,7 @@ bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, fl
 
 // max(out, median + k * 1.4826 * MAD) of the finite values of x[0, n) (out unchanged when none
 // is finite); false when they need the general path.
-bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
+RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
 {
   std::uint32_t lowest;
   if (!binValues(x, n, r.bin, lowest)) return false;
