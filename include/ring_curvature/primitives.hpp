@@ -57,7 +57,6 @@ private:
   std::vector<std::uint32_t> dup_root_; // root of each duplicate's component, or m
   std::vector<std::uint32_t> dup_rank_; // points of that component before the duplicate
   std::vector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
-  std::vector<Eigen::Array4f> point_;    // float x y z of each grid position in a primitive
 };
 
 }  // namespace ring_curvature

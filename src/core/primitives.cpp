@@ -225,10 +225,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // Indices, run by run: a run is a block of consecutive positions and input indices. Each
   // entry of `indices` also gets its grid position (slot_pos_), so that the sums below walk a
   // primitive's points in the order of its indices with sequential reads and register sums.
-  // The float coordinates of the points are made here once, x y z in one Array4f, for the
-  // box and centroid below (a duplicate reads its representative's).
   slot_pos_.resize(total);
-  point_.resize(m);
   PrimitiveInfo* const prims = out.primitives.data();
   std::uint32_t* const indices = out.indices.data();
   std::uint32_t* const slot_pos = slot_pos_.data();
@@ -237,7 +234,6 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const double* const gx = g.x.data();
   const double* const gy = g.y.data();
   const double* const gz = g.z.data();
-  Eigen::Array4f* const point = point_.data();
   {
     int n = 0;
     for (std::size_t k = 0; k < num_runs; ++k)
@@ -250,15 +246,12 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
       // runs come in grid order, so in ring order: the first one has the lowest ring
       if (runs[k].rank == 0) pr.ring_min = static_cast<std::uint16_t>(n);
       pr.ring_max = static_cast<std::uint16_t>(n);
-      // one loop for all of a run's stores: separate fills and copies were a library call
-      // each, for nine points on average
       std::uint32_t slot = pr.first + runs[k].rank;
       for (std::uint32_t p = s; p < t; ++p, ++slot)
       {
         of_grid[p] = id;
         indices[slot] = index[p];
         slot_pos[slot] = p;
-        point[p] = Eigen::Array4f(static_cast<float>(gx[p]), static_cast<float>(gy[p]), static_cast<float>(gz[p]), 0.0f);
       }
     }
   }
@@ -274,10 +267,11 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // Box, centroid, moments and axes, primitive by primitive. All sums run over the points in
   // the order of the primitive's indices, one point at a time, so they are bit for bit those
   // of the per-point accumulation they replace:
-  // - box and centroid sum in float, x y z in the lanes of one Array4f: lane by lane the same
-  //   operations as the per-point Eigen code (Eigen's packet min(a, b) is std::min(a, b), as
-  //   its scalar cwiseMin). The first point starts the box; a duplicate repeats an earlier
-  //   point's coordinates, so it leaves the box as it is.
+  // - box and centroid sum in float: Eigen's cwiseMin(box, v) is std::min(box, v) per
+  //   coordinate. The first point starts the box; a duplicate repeats an earlier point's
+  //   coordinates, so it leaves the box as it is. (Converting here rather than keeping float
+  //   copies from the fill: the moments read the same doubles right after, while a copy was
+  //   16 more bytes a point to write and read, which cost on the large clouds.)
   // - second moments about the float centroid cast to double. Only the lower triangle is
   //   summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the upper
   //   triangle is a copy of it, made once per primitive.
@@ -285,17 +279,19 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   {
     const std::uint32_t* const sp = slot_pos + pr.first;
     const std::uint32_t np = pr.num_points;
-    Eigen::Array4f lo = point[sp[0]], hi = lo, sum = Eigen::Array4f::Zero();
+    float lox = static_cast<float>(gx[sp[0]]), loy = static_cast<float>(gy[sp[0]]), loz = static_cast<float>(gz[sp[0]]);
+    float hix = lox, hiy = loy, hiz = loz, sx = 0, sy = 0, sz = 0;
     for (std::uint32_t k = 0; k < np; ++k)
     {
-      const Eigen::Array4f& v = point[sp[k]];
-      lo = lo.min(v);
-      hi = hi.max(v);
-      sum += v;
+      const std::uint32_t p = sp[k];
+      const float vx = static_cast<float>(gx[p]), vy = static_cast<float>(gy[p]), vz = static_cast<float>(gz[p]);
+      lox = std::min(lox, vx), loy = std::min(loy, vy), loz = std::min(loz, vz);
+      hix = std::max(hix, vx), hiy = std::max(hiy, vy), hiz = std::max(hiz, vz);
+      sx += vx, sy += vy, sz += vz;
     }
-    pr.bbox_min = lo.head<3>();
-    pr.bbox_max = hi.head<3>();
-    pr.centroid = sum.head<3>();
+    pr.bbox_min = Eigen::Vector3f(lox, loy, loz);
+    pr.bbox_max = Eigen::Vector3f(hix, hiy, hiz);
+    pr.centroid = Eigen::Vector3f(sx, sy, sz);
     pr.centroid /= static_cast<float>(np);
     const Eigen::Vector3d c = pr.centroid.cast<double>();
     double m00 = 0, m10 = 0, m20 = 0, m11 = 0, m21 = 0, m22 = 0;
