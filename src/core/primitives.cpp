@@ -84,6 +84,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // before the vertical unions of ring n-1 reach into it (up[] of ring n-1 points into ring n).
   std::uint32_t* const parent = parent_.data();
   std::uint32_t* const run = run_.data();
+  std::int32_t* const comp = comp_.data();
   Run* const runs = runs_.data();
   std::size_t num_runs = 0;
   for (int n = 0; n < g.num_rings; ++n)
@@ -102,6 +103,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
         s = p;
         s_wanted = wanted(l);
         parent[p] = p;
+        comp[p] = 0;  // a component's size is counted at its root, a run start
       }
       run[p] = s;
     }
@@ -159,7 +161,6 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // below. Roots are listed as they come, i.e. in scan order. Each run and each duplicate
   // keeps its rank among the points of its component (the count before it), which is where
   // its indices go: the fill below then needs no cursor per primitive.
-  std::int32_t* const comp = comp_.data();
   std::uint32_t* const roots = roots_.data();
   std::size_t num_roots = 0;
   for (std::size_t k = 0; k < num_runs; ++k)
@@ -167,17 +168,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     const std::uint32_t s = runs[k].begin;
     const std::uint32_t r = parent[parent[s]];
     parent[s] = r;
-    const auto len = static_cast<std::int32_t>(runs[k].end - s);
-    if (r == s)
-    {
-      comp[s] = len;
-      roots[num_roots++] = s;
-    }
-    else
-    {
-      runs[k].rank = static_cast<std::uint32_t>(comp[r]);
-      comp[r] += len;
-    }
+    roots[num_roots] = s;
+    num_roots += r == s;  // without a branch: which runs start a component is data
+    runs[k].rank = static_cast<std::uint32_t>(comp[r]);
+    comp[r] += static_cast<std::int32_t>(runs[k].end - s);
   }
   // duplicates (same firing, same range) join their representative's primitive, after its
   // grid points, in input order
