@@ -54,6 +54,7 @@ private:
   std::vector<Run> runs_;               // the runs of wanted labels, in grid order
   std::vector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
   std::vector<std::uint32_t> roots_;    // the roots, in grid order
+  std::vector<std::uint32_t> grid_size_; // grid points per root, then per primitive id
   std::vector<std::uint32_t> dup_root_; // root of each duplicate's component, or m
   std::vector<std::uint32_t> dup_rank_; // points of that component before the duplicate
   std::vector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices

@@ -173,6 +173,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     runs[k].rank = static_cast<std::uint32_t>(comp[r]);
     comp[r] += static_cast<std::int32_t>(runs[k].end - s);
   }
+  // the grid points of each component, before the duplicates join (the box needs only those)
+  grid_size_.resize(m);
+  std::uint32_t* const grid_size = grid_size_.data();
+  for (std::size_t k = 0; k < num_roots; ++k) grid_size[k] = static_cast<std::uint32_t>(comp[roots[k]]);
   // duplicates (same firing, same range) join their representative's primitive, after its
   // grid points, in input order
   const std::uint32_t* const dups = g.duplicates.data();
@@ -194,7 +198,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     dup_root[k] = r;
     dup_rank[k] = static_cast<std::uint32_t>(comp[r]++);
   }
-  // ids for the large-enough components, in scan order; comp becomes the id at each root
+  // ids for the large-enough components, in scan order; comp becomes the id at each root, and
+  // grid_size is compacted to be indexed by id
   std::uint32_t total = 0;
   for (std::size_t k = 0; k < num_roots; ++k)
   {
@@ -212,6 +217,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     prim.num_points = size;
     total += size;
     comp[r] = static_cast<std::int32_t>(prim.id);
+    grid_size[prim.id] = grid_size[k];
     out.primitives.push_back(prim);
   }
   out.indices.resize(total);
@@ -263,9 +269,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // of the per-point accumulation they replace:
   // - box and centroid sum in float: Eigen's cwiseMin(box, v) is std::min(box, v) per
   //   coordinate. The first point starts the box; a duplicate repeats an earlier point's
-  //   coordinates, so it leaves the box as it is. (Converting here rather than keeping float
-  //   copies from the fill: the moments read the same doubles right after, while a copy was
-  //   16 more bytes a point to write and read, which cost on the large clouds.)
+  //   coordinates, so it would leave the box as it is and goes to the sum only. (Converting
+  //   here rather than keeping float copies from the fill: the moments read the same doubles
+  //   right after, while a copy was 16 more bytes a point to write and read, which cost on the
+  //   large clouds.)
   // - second moments about the float centroid cast to double. Only the lower triangle is
   //   summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the upper
   //   triangle is a copy of it, made once per primitive.
@@ -275,13 +282,19 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     const std::uint32_t np = pr.num_points;
     float lox = static_cast<float>(gx[sp[0]]), loy = static_cast<float>(gy[sp[0]]), loz = static_cast<float>(gz[sp[0]]);
     float hix = lox, hiy = loy, hiz = loz, sx = 0, sy = 0, sz = 0;
-    for (std::uint32_t k = 0; k < np; ++k)
+    const std::uint32_t ng = grid_size[pr.id];
+    for (std::uint32_t k = 0; k < ng; ++k)
     {
       const std::uint32_t p = sp[k];
       const float vx = static_cast<float>(gx[p]), vy = static_cast<float>(gy[p]), vz = static_cast<float>(gz[p]);
       lox = std::min(lox, vx), loy = std::min(loy, vy), loz = std::min(loz, vz);
       hix = std::max(hix, vx), hiy = std::max(hiy, vy), hiz = std::max(hiz, vz);
       sx += vx, sy += vy, sz += vz;
+    }
+    for (std::uint32_t k = ng; k < np; ++k)  // duplicates
+    {
+      const std::uint32_t p = sp[k];
+      sx += static_cast<float>(gx[p]), sy += static_cast<float>(gy[p]), sz += static_cast<float>(gz[p]);
     }
     pr.bbox_min = Eigen::Vector3f(lox, loy, loz);
     pr.bbox_max = Eigen::Vector3f(hix, hiy, hiz);
