@@ -307,16 +307,25 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     pr.centroid = Eigen::Vector3f(sx, sy, sz);
     pr.centroid /= static_cast<float>(np);
     const Eigen::Vector3d c = pr.centroid.cast<double>();
-    double m00 = 0, m10 = 0, m20 = 0, m11 = 0, m21 = 0, m22 = 0;
+    // x and y in the two lanes of an Array2d (one subtraction, three products and sums for
+    // five of the six entries): mx sums (dx dx, dy dx), my (dx dy, dy dy), mz (dx dz, dy dz),
+    // each lane the same operations as the scalar entry (a product of two doubles does not
+    // depend on their order).
+    const Eigen::Array2d cxy(c.x(), c.y());
+    Eigen::Array2d mx = Eigen::Array2d::Zero(), my = Eigen::Array2d::Zero(), mz = Eigen::Array2d::Zero();
+    double m22 = 0;
     for (std::uint32_t k = 0; k < np; ++k)
     {
       const std::uint32_t p = sp[k];
-      const double dx = gx[p] - c.x(), dy = gy[p] - c.y(), dz = gz[p] - c.z();
-      m00 += dx * dx, m10 += dy * dx, m20 += dz * dx;
-      m11 += dy * dy, m21 += dz * dy, m22 += dz * dz;
+      const Eigen::Array2d dxy = Eigen::Array2d(gx[p], gy[p]) - cxy;
+      const double dz = gz[p] - c.z();
+      mx += dxy * dxy.x();
+      my += dxy * dxy.y();
+      mz += dxy * dz;
+      m22 += dz * dz;
     }
     Eigen::Matrix3d cov;
-    cov << m00, m10, m20, m10, m11, m21, m20, m21, m22;
+    cov << mx.x(), mx.y(), mz.x(), mx.y(), my.y(), mz.y(), mz.x(), mz.y(), m22;
     cov /= static_cast<double>(np);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);
