@@ -63,7 +63,7 @@ std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const Primitive
                 : Eigen::Vector3f(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
                                   static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
                                   static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
-    if (p.allFinite())
+    if (std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))  // Eigen's allFinite computes p - p
       pts.push_back(p);
   }
   return pts;
@@ -100,11 +100,18 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   // In-plane principal direction from the points' 2-D covariance, so the quad follows the patch
   // (a wall strip seen by 16 rings is long and thin; a square would misdraw it).
   const Eigen::Vector3f u0 = anyPerpendicular(n), v0 = n.cross(u0);
+  // The loops below spell out Eigen's `(p - c).dot(w)` (for three floats it sums as
+  // d0 w0 + (d1 w1 + d2 w2)) on plain floats: through the expression templates every point cost
+  // several times as much (perf), and this is the output whose cost grows with the points.
+  const float cx = prim.centroid.x(), cy = prim.centroid.y(), cz = prim.centroid.z();
+  const auto dot = [](float dx, float dy, float dz, const Eigen::Vector3f& w) {
+    return dx * w.x() + (dy * w.y() + dz * w.z());
+  };
   float cuu = 0, cvv = 0, cuv = 0;
   for (const auto& p : pts)
   {
-    const Eigen::Vector3f d = p - prim.centroid;
-    const float qu = d.dot(u0), qv = d.dot(v0);
+    const float dx = p.x() - cx, dy = p.y() - cy, dz = p.z() - cz;
+    const float qu = dot(dx, dy, dz, u0), qv = dot(dx, dy, dz, v0);
     cuu += qu * qu;
     cvv += qv * qv;
     cuv += qu * qv;
@@ -116,11 +123,12 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   float umin = 0, umax = 0, vmin = 0, vmax = 0;
   for (const auto& p : pts)
   {
-    const Eigen::Vector3f d = p - prim.centroid;
-    umin = std::min(umin, d.dot(u));
-    umax = std::max(umax, d.dot(u));
-    vmin = std::min(vmin, d.dot(v));
-    vmax = std::max(vmax, d.dot(v));
+    const float dx = p.x() - cx, dy = p.y() - cy, dz = p.z() - cz;
+    const float du = dot(dx, dy, dz, u), dv = dot(dx, dy, dz, v);
+    umin = std::min(umin, du);
+    umax = std::max(umax, du);
+    vmin = std::min(vmin, dv);
+    vmax = std::max(vmax, dv);
   }
   // A single-ring patch has no extent across the ring: give it a sliver so it is still drawn.
   const float min_half = 0.02f;
