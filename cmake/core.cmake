@@ -19,6 +19,12 @@ target_compile_options(ring_curvature_core PRIVATE -fno-math-errno)
 # Nor does it read floating-point exception flags: this lets the compiler form both sides of a
 # selection (if-conversion), which vectorizes loops with `c ? a / b : nan`. Values are unchanged.
 target_compile_options(ring_curvature_core PRIVATE -fno-trapping-math)
+# Hot loops are compiled for baseline x86-64 and for AVX2 (src/core/simd_clones.hpp); OFF builds
+# the baseline alone (to check that both give the same bits, or for a toolchain without ifunc).
+option(RC_SIMD_CLONES "AVX2 versions of the core's hot loops, chosen at load time" ON)
+if(NOT RC_SIMD_CLONES)
+  target_compile_definitions(ring_curvature_core PRIVATE RC_NO_SIMD_CLONES)
+endif()
 install(TARGETS ring_curvature_core
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})

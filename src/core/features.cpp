@@ -181,6 +181,15 @@ struct RingCtx
 };
 }  // namespace
 
+const char* coreLoopsIsa()
+{
+#if defined(RC_SIMD_CLONES_ON)
+  return __builtin_cpu_supports("avx2") ? "avx2" : "baseline";
+#else
+  return "baseline";
+#endif
+}
+
 void FeatureComputer::compute(const ScanGrid& grid, const Params& params, Features& out)
 {
   // No NaN fill of the whole arrays first: computeRing writes every position of its ring (four

@@ -2,11 +2,14 @@
 // pick one at load time by the CPU (GCC function multiversioning, an ifunc). The package stays a
 // portable baseline build; a CPU with AVX2 runs the gathers and 4-wide doubles its loops need.
 // Only AVX2 is enabled, not FMA: fused multiply-adds would round differently, and both versions
-// must give the same bits. Elsewhere (other compilers, other architectures) it expands to nothing.
+// must give the same bits. Elsewhere (other compilers, other architectures) it expands to nothing,
+// and so it does with the CMake option RC_SIMD_CLONES=OFF, which is how the two versions are
+// checked against each other (docs/benchmark.md, "Reproduce").
 #pragma once
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(RC_NO_SIMD_CLONES)
 #define RC_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#define RC_SIMD_CLONES_ON 1
 #else
 #define RC_SIMD_CLONES
 #endif

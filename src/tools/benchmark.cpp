@@ -221,7 +221,8 @@ int main(int argc, char** argv)
   }
 
   std::printf("ring_curvature benchmark: %s\n", opt.bag.c_str());
-  std::printf("  cpu: %s; single thread, Release\n", cpuModel().c_str());
+  std::printf("  cpu: %s; single thread, Release; core loops: %s\n", cpuModel().c_str(),
+              ring_curvature::coreLoopsIsa());
   std::printf("  %zu frames, %.0f points/frame (mean), repeat %d (+1 warm-up)%s\n", views.size(), mean_points,
               opt.repeat, opt.baselines ? (", baselines repeat " + std::to_string(opt.baseline_repeat) +
                                   ", euclid tolerance " + std::to_string(static_cast<int>(opt.euclid_tolerance * 100.0f + 0.5f)) + " cm").c_str()
