@@ -1,5 +1,6 @@
 // Section 4.3: union-find over the scan grid (angular and vertical neighbours, same label,
-// proximity by Eq 19-20), then one pass of moments per component. Linear time, no recursion.
+// proximity by Eq 19-20), then box, centroid and moments per component. Linear time, no
+// recursion.
 #include "ring_curvature/primitives.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -50,6 +51,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
   comp_.resize(m + 1);  // comp_[m]: the component of no position (see dup_root_)
   roots_.resize(m);
+  grid_size_.resize(m);
 
   // a table: this is asked once or more per grid position in every loop below
   const bool want[kNumLabels] = {false, true, true, true, P.rough_primitives};
@@ -90,24 +92,46 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   for (int n = 0; n < g.num_rings; ++n)
   {
     const std::uint32_t b = ring_begin[n], e = ring_begin[n + 1];
-    std::uint32_t s = b;  // start of the current run
-    bool s_wanted = false;
-    for (std::uint32_t p = b; p < e; ++p)
+    if (b < e)
     {
-      const Label l = lab[p];
-      // angular neighbour (n, k-1): the pair the original test saw from (n, k-1), same operands
-      const bool join = p > b && wanted(l) && linked[p] && lab[p - 1] == l && close(p - 1, p, true);
-      if (!join)
+      // The predecessor's label, range and azimuth are carried in registers rather than read
+      // again, and the first position, which has none, is taken out of the loop: 7-9 % of the
+      // stage on the large clouds.
+      std::uint32_t s = b;  // start of the current run
+      Label l_prev = lab[b];
+      double r_prev = range[b];
+      float a_prev = azimuth[b];
+      bool s_wanted = wanted(l_prev);
+      parent[b] = b;
+      comp[b] = 0;  // a component's size is counted at its root, a run start
+      run[b] = b;
+      for (std::uint32_t p = b + 1; p < e; ++p)
       {
-        if (s_wanted) runs[num_runs++] = {s, p, 0};
-        s = p;
-        s_wanted = wanted(l);
-        parent[p] = p;
-        comp[p] = 0;  // a component's size is counted at its root, a run start
+        const Label l = lab[p];
+        const double r = range[p];
+        const float a = azimuth[p];
+        // angular neighbour (n, k-1): close(p - 1, p, true), on the carried values
+        bool join = false;
+        if (wanted(l) && linked[p] && l_prev == l)
+        {
+          const double rho_tol = std::max(range_ratio * 0.5 * (r_prev + r), range_min);  // Eq 20
+          join = !(std::fabs(r_prev - r) > rho_tol) && angDiff(a_prev, a) <= az_tol;
+        }
+        l_prev = l;
+        r_prev = r;
+        a_prev = a;
+        if (!join)
+        {
+          if (s_wanted) runs[num_runs++] = {s, p, 0};
+          s = p;
+          s_wanted = wanted(l);
+          parent[p] = p;
+          comp[p] = 0;
+        }
+        run[p] = s;
       }
-      run[p] = s;
+      if (s_wanted) runs[num_runs++] = {s, e, 0};
     }
-    if (s_wanted) runs[num_runs++] = {s, e, 0};
     // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
     if (e - b >= 2)
     {
@@ -116,9 +140,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     }
     if (n == 0 || up == nullptr) continue;
     // vertical neighbours of ring n-1 in ring n: the nearest sample in azimuth, or one beside
-    // it, within Eq 19
-    // Neighbouring runs meet many times over: the last pair of runs united is remembered, and
-    // the same pair again needs no find().
+    // it, within Eq 19. Neighbouring runs meet many times over: the last pair of runs united
+    // is remembered, and the same pair again needs no find().
     auto last_rp = static_cast<std::uint32_t>(m), last_rq = last_rp;  // no run starts at m
     for (std::uint32_t p = ring_begin[n - 1]; p < b; ++p)
     {
@@ -174,7 +197,6 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     comp[r] += static_cast<std::int32_t>(runs[k].end - s);
   }
   // the grid points of each component, before the duplicates join (the box needs only those)
-  grid_size_.resize(m);
   std::uint32_t* const grid_size = grid_size_.data();
   for (std::size_t k = 0; k < num_roots; ++k) grid_size[k] = static_cast<std::uint32_t>(comp[roots[k]]);
   // duplicates (same firing, same range) join their representative's primitive, after its
