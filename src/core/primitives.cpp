@@ -73,11 +73,13 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const bool organized = g.organized;
   const double range_ratio = P.proximity_range_ratio;
   const double range_min = static_cast<double>(P.proximity_range_min);
-  auto close = [&](std::uint32_t a, std::uint32_t b, bool check_azimuth) {
-    const double ra = range[a], rb = range[b];
+  // Proximity of a pair from its ranges and azimuths, in the original order of the operands.
+  // Values rather than positions: the loops below keep one side in registers (reading it
+  // again per test, through a lambda capturing by reference, cost 7 % on the large clouds).
+  const auto close = [range_ratio, range_min, az_tol](double ra, float aa, double rb, float ab, bool check_azimuth) {
     const double rho_tol = std::max(range_ratio * 0.5 * (ra + rb), range_min);  // Eq 20
     if (std::fabs(ra - rb) > rho_tol) return false;
-    return !check_azimuth || angDiff(azimuth[a], azimuth[b]) <= az_tol;
+    return !check_azimuth || angDiff(aa, ab) <= az_tol;  // Eq 19
   };
 
   // Unions. Most angular neighbours unite, so each ring is first cut into runs (see Run): a
@@ -110,13 +112,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
         const Label l = lab[p];
         const double r = range[p];
         const float a = azimuth[p];
-        // angular neighbour (n, k-1): close(p - 1, p, true), on the carried values
-        bool join = false;
-        if (wanted(l) && linked[p] && l_prev == l)
-        {
-          const double rho_tol = std::max(range_ratio * 0.5 * (r_prev + r), range_min);  // Eq 20
-          join = !(std::fabs(r_prev - r) > rho_tol) && angDiff(a_prev, a) <= az_tol;
-        }
+        // angular neighbour (n, k-1), tested as the pair (k-1, k)
+        const bool join = wanted(l) && linked[p] && l_prev == l && close(r_prev, a_prev, r, a, true);
         l_prev = l;
         r_prev = r;
         a_prev = a;
@@ -136,7 +133,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     if (e - b >= 2)
     {
       const Label l = lab[e - 1];
-      if (wanted(l) && linked[b] && lab[b] == l && close(e - 1, b, true)) parent[run[e - 1]] = b;
+      if (wanted(l) && linked[b] && lab[b] == l && close(range[e - 1], azimuth[e - 1], range[b], azimuth[b], true))
+        parent[run[e - 1]] = b;
     }
     if (n == 0 || up == nullptr) continue;
     // vertical neighbours of ring n-1 in ring n: the nearest sample in azimuth, or one beside
@@ -148,15 +146,20 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
       const Label l = lab[p];
       if (!wanted(l) || up[p] < 0) continue;
       const auto uu = static_cast<std::uint32_t>(up[p]);
+      const double ra = range[p];
+      const float aa = azimuth[p];
+      auto joins = [&](std::uint32_t q, bool check_azimuth) {
+        return lab[q] == l && close(ra, aa, range[q], azimuth[q], check_azimuth);
+      };
       // organized clouds: a column is one firing, beams may have their own azimuth offsets
       std::uint32_t q = uu;
-      if (!((lab[q] == l) && close(p, q, !organized)))
+      if (!joins(q, !organized))
       {
         q = uu > b ? uu - 1 : e - 1;
-        if (!((lab[q] == l) && close(p, q, true)))
+        if (!joins(q, true))
         {
           q = uu + 1 < e ? uu + 1 : b;
-          if (!((lab[q] == l) && close(p, q, true))) continue;
+          if (!joins(q, true)) continue;
         }
       }
       const std::uint32_t rp = run[p], rq = run[q];
