@@ -76,10 +76,11 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // Proximity of a pair from its ranges and azimuths, in the original order of the operands.
   // Values rather than positions: the loops below keep one side in registers (reading it
   // again per test, through a lambda capturing by reference, cost 7 % on the large clouds).
-  const auto close = [range_ratio, range_min, az_tol](double ra, float aa, double rb, float ab, bool check_azimuth) {
-    const double rho_tol = std::max(range_ratio * 0.5 * (ra + rb), range_min);  // Eq 20
-    if (std::fabs(ra - rb) > rho_tol) return false;
-    return !check_azimuth || angDiff(aa, ab) <= az_tol;  // Eq 19
+  const auto in_range = [range_ratio, range_min](double ra, double rb) {
+    return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
+  };
+  const auto close = [in_range, az_tol](double ra, float aa, double rb, float ab, bool check_azimuth) {
+    return in_range(ra, rb) && (!check_azimuth || angDiff(aa, ab) <= az_tol);  // Eq 19
   };
 
   // Unions. Most angular neighbours unite, so each ring is first cut into runs (see Run): a
@@ -151,14 +152,19 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
       auto joins = [&](std::uint32_t q, bool check_azimuth) {
         return lab[q] == l && close(ra, aa, range[q], azimuth[q], check_azimuth);
       };
+      const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
+      // Most positions that find no candidate fail on the range for all three (the ground,
+      // ring to ring): the three range tests first, without branches, and the tests in order
+      // only where one passes.
+      if (!(in_range(ra, range[uu]) | in_range(ra, range[c1]) | in_range(ra, range[c2]))) continue;
       // organized clouds: a column is one firing, beams may have their own azimuth offsets
       std::uint32_t q = uu;
       if (!joins(q, !organized))
       {
-        q = uu > b ? uu - 1 : e - 1;
+        q = c1;
         if (!joins(q, true))
         {
-          q = uu + 1 < e ? uu + 1 : b;
+          q = c2;
           if (!joins(q, true)) continue;
         }
       }
