@@ -146,7 +146,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     for (std::uint32_t p = ring_begin[n - 1]; p < b; ++p)
     {
       const Label l = lab[p];
-      if (!wanted(l) || up[p] < 0) continue;
+      if (!(wanted(l) & (up[p] >= 0))) continue;  // one branch for the two tests, as in the run loop
       const auto uu = static_cast<std::uint32_t>(up[p]);
       const double ra = range[p];
       const float aa = azimuth[p];
@@ -181,8 +181,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
       while (p + 1 < b && run[p + 1] == rp)
       {
         const std::int32_t u = up[p + 1];
-        if (u <= static_cast<std::int32_t>(b) || u + 1 >= static_cast<std::int32_t>(e)) break;
-        if (run[u - 1] != rq || run[u + 1] != rq) break;  // a run is contiguous: run[u] is rq too
+        if ((u <= static_cast<std::int32_t>(b)) | (u + 1 >= static_cast<std::int32_t>(e))) break;
+        if ((run[u - 1] != rq) | (run[u + 1] != rq)) break;  // a run is contiguous: run[u] is rq too
         ++p;
       }
     }
