@@ -150,23 +150,24 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
       const auto uu = static_cast<std::uint32_t>(up[p]);
       const double ra = range[p];
       const float aa = azimuth[p];
-      auto joins = [&](std::uint32_t q, bool check_azimuth) {
-        return lab[q] == l && close(ra, aa, range[q], azimuth[q], check_azimuth);
-      };
       const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
       // Most positions that find no candidate fail on the range for all three (the ground,
-      // ring to ring): the three range tests first, without branches, and the tests in order
-      // only where one passes.
-      if (!(in_range(ra, range[uu]) | in_range(ra, range[c1]) | in_range(ra, range[c2]))) continue;
+      // ring to ring): the three range tests first, without branches, and the label and
+      // azimuth tests in order only where one passes.
+      const bool in0 = in_range(ra, range[uu]), in1 = in_range(ra, range[c1]), in2 = in_range(ra, range[c2]);
+      if (!(in0 | in1 | in2)) continue;
+      auto joins = [&](std::uint32_t q, bool in, bool check_azimuth) {
+        return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
+      };
       // organized clouds: a column is one firing, beams may have their own azimuth offsets
       std::uint32_t q = uu;
-      if (!joins(q, !organized))
+      if (!joins(q, in0, !organized))
       {
         q = c1;
-        if (!joins(q, true))
+        if (!joins(q, in1, true))
         {
           q = c2;
-          if (!joins(q, true)) continue;
+          if (!joins(q, in2, true)) continue;
         }
       }
       const std::uint32_t rp = run[p], rq = run[q];
