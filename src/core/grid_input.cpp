@@ -130,6 +130,18 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
                  ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
       if (!view.ring.present()) continue;
       const std::uint8_t* rec = data + view.ring.offset;
+      if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
+      {
+        std::uint32_t largest = 0;
+        for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+        {
+          std::uint16_t r16;
+          std::memcpy(&r16, rec, sizeof r16);
+          largest = std::max<std::uint32_t>(largest, r16);
+        }
+        if (largest < static_cast<std::uint32_t>(params.max_rings)) continue;
+        rec = data + view.ring.offset;  // out of range somewhere: find the first, for the message
+      }
       for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
       {
         const std::int64_t r = readInteger(rec, view.ring.type);
