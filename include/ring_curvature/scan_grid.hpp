@@ -113,6 +113,13 @@ inline float bitsFloat(std::uint32_t u)
   std::memcpy(&f, &u, sizeof f);
   return f;
 }
+/// Float bits mapped to an unsigned key of the same order (negatives reversed, below positives;
+/// -0 just below +0): integer comparisons and radix digits of keys order the floats.
+inline std::uint32_t orderedKey(float f)
+{
+  const std::uint32_t u = floatBits(f);
+  return u ^ ((0u - (u >> 31)) | 0x80000000u);
+}
 /// All ones when c, else zero.
 inline std::uint32_t maskOf(bool c) { return 0u - static_cast<std::uint32_t>(c); }
 /// mask ? a : b, bit for bit, without a branch.

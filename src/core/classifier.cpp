@@ -16,31 +16,15 @@ constexpr float kDegToRad = 0.0174532925f;
 constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-inline std::uint32_t bitsOf(float f)
-{
-  std::uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-inline float fromBits(std::uint32_t u)
-{
-  float f;
-  std::memcpy(&f, &u, sizeof f);
-  return f;
-}
+using detail::bitsFloat;
+using detail::floatBits;
 // Nearest rank of quantile q of n values: floor(q * (n - 1)).
 inline std::size_t rankOf(std::size_t n, double q)
 {
   return std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
 }
 
-// Float bits mapped to an unsigned key of the same order (negatives reversed, then above positives).
-inline std::uint32_t orderedKey(float f)
-{
-  const std::uint32_t u = bitsOf(f);
-  const std::uint32_t neg = static_cast<std::uint32_t>(-static_cast<std::int32_t>(u >> 31));
-  return u ^ (neg | 0x80000000u);
-}
+using detail::orderedKey;
 
 // Value of rank k in v[0, n) (reordered, never overwritten).
 float selectRank(float* v, std::size_t n, std::size_t k)
@@ -170,8 +154,8 @@ float medianPlusKMad(float* buf, std::size_t n, float k)
 constexpr int kBinShift = 20;
 constexpr std::uint32_t kBins = 2048;        // every float with a clear sign bit
 constexpr std::uint32_t kFiniteBins = 2040;  // bins 2040..2047: +inf and NaN (exponent all ones)
-inline float lowEdge(std::uint32_t bin) { return fromBits(bin << kBinShift); }
-inline float highEdge(std::uint32_t bin) { return fromBits(((bin + 1) << kBinShift) - 1); }
+inline float lowEdge(std::uint32_t bin) { return bitsFloat(bin << kBinShift); }
+inline float highEdge(std::uint32_t bin) { return bitsFloat(((bin + 1) << kBinShift) - 1); }
 
 // One ring's values by bin, and the copy-out of the values of wanted bins.
 struct BinnedRing
@@ -257,7 +241,7 @@ RC_SIMD_CLONES bool binValues(const float* x, std::size_t n, std::uint16_t* bin,
   std::uint32_t sign = 0, low = 0xFFFFFFFFu;
   for (std::size_t i = 0; i < n; ++i)
   {
-    const std::uint32_t u = bitsOf(x[i]);
+    const std::uint32_t u = floatBits(x[i]);
     sign |= u;
     low = std::min(low, u - 1);  // +0 wraps to the top
     bin[i] = static_cast<std::uint16_t>(u >> kBinShift);
@@ -490,10 +474,10 @@ void labelRobust(const Features& f, const double* range_b, std::size_t b, std::s
     const float k = kap[i], turn = turning[i], S = sm[i], D = dis[i];
     // kappa = turning / chord length, and chord 0 where kappa <= 0: the quotient is masked to
     // +0 by its bits, as the compiler would not vectorize a conditional division (FP traps)
-    const float chord = fromBits(bitsOf(turn / k) & (0u - static_cast<std::uint32_t>(k > 0)));
+    const float chord = bitsFloat(floatBits(turn / k) & (0u - static_cast<std::uint32_t>(k > 0)));
     // turn > threshold && turn * chord > noise, the product turned into NaN (above nothing)
     // where the first fails: a plain && let the compiler branch around the division
-    const float turn_excess = fromBits(bitsOf(turn * chord) | (turn > t.curvature_high ? 0u : 0x7FC00000u));
+    const float turn_excess = bitsFloat(floatBits(turn * chord) | (turn > t.curvature_high ? 0u : 0x7FC00000u));
     const bool turn_high = turn_excess > turn_noise;
     bool jump_high = D > t.discontinuity_high;
     if (kJump) jump_high = jump_high & (static_cast<double>(D) * range[i] > jump_noise);

@@ -18,18 +18,20 @@ namespace
 {
 constexpr float kPi = 3.14159265358979f;
 
-// The common layout (velodyne, unorganized ouster: float32 x, y, z and a uint16 ring at fixed
-// offsets of `step`-byte records), read in one loop without branches, early exits or per-point
-// dispatch on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES).
-// Validity is the range test (NaN and inf fail both comparisons); the entries of invalid points
-// are written too (paz / py then hold values nothing reads). Returns the largest ring read, so
-// the caller can reject the frame after the loop.
-RC_SIMD_CLONES std::uint32_t readXyzRing16(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
-                                           std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
-                                           double rmin, double rmax, double* __restrict range_out,
-                                           float* __restrict px, float* __restrict py,
-                                           std::int32_t* __restrict ring_out, PointState* __restrict state,
-                                           std::int32_t* __restrict grid_pos)
+// The common layouts: float32 x, y, z at fixed offsets of `step`-byte records, and either a
+// uint16 ring field (velodyne, unorganized ouster; `has_ring`) or one ring for all (a row of an
+// organized cloud; `fixed_ring`). One loop without branches, early exits or per-point dispatch
+// on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES). Validity is the
+// range test (NaN and inf fail both comparisons); the entries of invalid points are written too
+// (px / py then hold values nothing reads). Returns the largest ring field read, so the caller
+// can reject the frame after the loop. (Without a ring field, `oring` only has to lie inside the
+// record: the value read there is not used.)
+RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
+                                            std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
+                                            bool has_ring, std::int32_t fixed_ring, double rmin, double rmax,
+                                            double* __restrict range_out, float* __restrict px, float* __restrict py,
+                                            std::int32_t* __restrict ring_out, PointState* __restrict state,
+                                            std::int32_t* __restrict grid_pos)
 {
   std::uint32_t max_read = 0;
   for (std::size_t i = 0; i < n; ++i)
@@ -38,31 +40,8 @@ RC_SIMD_CLONES std::uint32_t readXyzRing16(const std::uint8_t* __restrict data, 
     const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
     std::uint16_t r16;
     std::memcpy(&r16, rec + oring, sizeof r16);
-    max_read = std::max<std::uint32_t>(max_read, r16);
-    const double x = fx, y = fy, z = fz;
-    const double range = std::sqrt(x * x + y * y + z * z);
-    const bool valid = (range >= rmin) & (range <= rmax);
-    range_out[i] = range;
-    px[i] = fx;
-    py[i] = fy;
-    ring_out[i] = valid ? r16 : -1;
-    state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-    grid_pos[i] = -1;
-  }
-  return max_read;
-}
-
-// One row of an organized float32 cloud, all on ring `ring`: as readXyzRing16, without a ring field.
-RC_SIMD_CLONES void readXyzRow(const std::uint8_t* __restrict data, std::size_t n, std::size_t step, std::size_t ox,
-                               std::size_t oy, std::size_t oz, std::int32_t ring, double rmin, double rmax,
-                               double* __restrict range_out, float* __restrict px, float* __restrict py,
-                               std::int32_t* __restrict ring_out, PointState* __restrict state,
-                               std::int32_t* __restrict grid_pos)
-{
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::uint8_t* const rec = data + i * step;
-    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
+    max_read = has_ring ? std::max<std::uint32_t>(max_read, r16) : max_read;
+    const std::int32_t ring = has_ring ? static_cast<std::int32_t>(r16) : fixed_ring;
     const double x = fx, y = fy, z = fz;
     const double range = std::sqrt(x * x + y * y + z * z);
     const bool valid = (range >= rmin) & (range <= rmax);
@@ -73,6 +52,7 @@ RC_SIMD_CLONES void readXyzRow(const std::uint8_t* __restrict data, std::size_t 
     state[i] = valid ? PointState::OnGrid : PointState::Invalid;
     grid_pos[i] = -1;
   }
+  return max_read;
 }
 
 // Azimuths of every point at once (fastAtan2 is branch-free: 4 or 8 at a time).
@@ -103,9 +83,9 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
                     view.z.type == ScalarType::Float32;
   if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
   {
-    const std::uint32_t max_read = readXyzRing16(
+    const std::uint32_t max_read = readXyzRecords(
         view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
-        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), rmin, rmax,
+        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), true, 0, rmin, rmax,
         prange_.data(), paz_.data(), tmp_f_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
     if (max_read >= static_cast<std::uint32_t>(params.max_rings))
     {
@@ -124,10 +104,11 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     {
       const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
       const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
-      readXyzRow(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
-                 static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
-                 static_cast<std::int32_t>(row), rmin, rmax, prange_.data() + i0, paz_.data() + i0, tmp_f_.data() + i0,
-                 ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
+      readXyzRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
+                     static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
+                     static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
+                     prange_.data() + i0, paz_.data() + i0, tmp_f_.data() + i0, ring_of_.data() + i0,
+                     grid.state.data() + i0, grid.grid_pos.data() + i0);
       if (!view.ring.present()) continue;
       const std::uint8_t* rec = data + view.ring.offset;
       if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after

@@ -17,9 +17,7 @@ constexpr float kTwoPi = 6.28318530717959f;
 // the order (azimuth, input index) exactly, and the sorts move one register-sized value.
 inline std::uint64_t sortKey(float azimuth, std::uint32_t i)
 {
-  const std::uint32_t u = detail::floatBits(azimuth + 0.0f);
-  const std::uint32_t k = u ^ ((0u - (u >> 31)) | 0x80000000u);
-  return (static_cast<std::uint64_t>(k) << 32) | i;
+  return (static_cast<std::uint64_t>(detail::orderedKey(azimuth + 0.0f)) << 32) | i;
 }
 inline float keyAzimuth(std::uint64_t key)
 {
