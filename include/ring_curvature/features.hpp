@@ -32,11 +32,10 @@ public:
 private:
   void computeRing(const ScanGrid& grid, const Params& params, int ring, Features& out);
   // scratch for one ring (sized to the largest ring, reused)
-  std::vector<float> wx_, wy_;        // developed (or z-plane) coordinates
   std::vector<double> rho_pad_;       // the ring's ranges, padded with the seam's neighbours
   std::vector<double> az_pad_;        // and azimuths
-  std::vector<float> ds_;             // arc length to the next sample
-  std::vector<int> seg_id_;           // curve segment of each sample (gaps split segments)
+  std::vector<int> runs_;             // links free to the left (first K) and right (next K) of each sample
+  std::vector<float> jump_;           // discontinuity of each link (k - 1, k), and the seam's again
   std::vector<double> prefix_;        // prefix sums for windowed statistics
   std::vector<int> half_;             // chord mode: samples per half chord
   std::vector<double> turn_len_;      // turning angle, arc length, chord products per sample

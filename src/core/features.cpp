@@ -220,7 +220,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // Run lengths: how many links are available to the left / right of each sample (capped).
   // left[k] = number of consecutive predecessors reachable without crossing a gap.
   const int cap = std::max({P.max_chord_samples, P.smoothness_window, 2}) + 1;
-  auto& left = seg_id_;
+  auto& left = runs_;
   left.resize(2 * static_cast<std::size_t>(K));
   int* L = left.data();
   int* Rr = left.data() + K;
@@ -402,10 +402,9 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
       return static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
     };
     // Each link once (a point shares its links with its neighbours): jump[k] is link (k-1, k),
-    // NaN where there is none (in the scratch wy_).
-    // jump[K] repeats jump[0] (the seam's link, for a closed ring); the second loop is then
-    // straight-line and vectorizes. A missing link on the right reads as NaN, which max ignores.
-    auto& jump = wy_;
+    // NaN where there is none, and jump[K] repeats jump[0] (the seam's link of a closed ring), so
+    // that largerLink reads both links of every sample without a wrap.
+    auto& jump = jump_;
     jump.resize(K + 1);
     for (std::uint32_t k = 0; k < K; ++k) jump[k] = L[k] >= 1 ? linkJump(k) : kNaN;
     jump[K] = jump[0];
