@@ -94,8 +94,7 @@ private:
   std::vector<float> sorted_az_;          // and its azimuth
   std::vector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
   std::vector<RingOrder> ring_order_;
-  std::vector<float> tmp_f_;
-  std::vector<double> elev_sum_;
+  std::vector<float> tmp_f_;  // y before the azimuths; elevations; kept azimuth spacings
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position
 };
 

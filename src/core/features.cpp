@@ -55,9 +55,10 @@ inline void smallSinCos(double a, double& s, double& c)
 // then recomputes the ring with the libm branch. A function of its own for `__restrict` (which
 // GCC honours on parameters): a gathered load might otherwise alias a store, and the loop stayed
 // scalar; with it the loop is vectorized.
-RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
-                   const double* __restrict rho, double* __restrict cross, double* __restrict dot,
-                   double* __restrict v2, double* __restrict u2)
+template <class SinCos>
+inline bool chordKernel(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
+                        const double* __restrict rho, double* __restrict cross, double* __restrict dot,
+                        double* __restrict v2, double* __restrict u2, SinCos sinCos)
 {
   int large = 0;  // an int and `|`: no short-circuit branch in the loop
   for (int k = 0; k < K; ++k)
@@ -66,8 +67,8 @@ RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, c
     const double ap = c * wrapPiD(az[kp] - az[k]), an = c * wrapPiD(az[kn] - az[k]);
     large |= (std::fabs(ap) > kSmallAngle ? 1 : 0) | (std::fabs(an) > kSmallAngle ? 1 : 0);
     double sp, cp, sn, cn;
-    polySinCos(ap, sp, cp);
-    polySinCos(an, sn, cn);
+    sinCos(ap, sp, cp);
+    sinCos(an, sn, cn);
     const double vx = rho[k] - rho[kp] * cp, vy = -(rho[kp] * sp);  // incoming chord
     const double ux = rho[kn] * cn - rho[k], uy = rho[kn] * sn;     // outgoing chord
     cross[k] = vx * uy - vy * ux;
@@ -76,6 +77,19 @@ RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, c
     u2[k] = ux * ux + uy * uy;
   }
   return large != 0;
+}
+RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
+                                  const double* __restrict rho, double* __restrict cross, double* __restrict dot,
+                                  double* __restrict v2, double* __restrict u2)
+{
+  return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos);
+}
+// The same with the libm branch, for a ring where chordProducts met a large angle.
+void chordProductsLibm(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
+                       const double* __restrict rho, double* __restrict cross, double* __restrict dot,
+                       double* __restrict v2, double* __restrict u2)
+{
+  chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, smallSinCos);
 }
 
 // Chord mode: samples per half chord, for a chord of `chord` metres at each range (sample
@@ -285,12 +299,10 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     wy = g.range[pj] * s;
   };
 
-  // The loop below is a long chain of dependent divisions and square roots per sample. Its
-  // parts are split into short loops of independent iterations, whose divisions the CPU overlaps
-  // (and the branch-free middle one the compiler vectorizes): the chord's sample count (a
-  // division and a ceil) first, then the developed chords, then (chord mode) the turning angle
-  // and the arc length, then kappa = turn / len. Each value is computed by the same operations
-  // as before, so the results are identical.
+  // Curvature in short loops of independent iterations (the chord's sample count, the developed
+  // chords, the turning angle and arc length, kappa = turn / len) rather than one long chain of
+  // dependent divisions and square roots per sample: the CPU overlaps their divisions, and in
+  // chord mode each loop vectorizes.
   const float chord = P.chord_length;
   const double res = std::max(1e-6f, g.azimuth_resolution);
   half_.resize(K);
@@ -311,21 +323,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     // Chord mode (see chordProducts). If an angle exceeded the polynomial's range, the ring is
     // recomputed with the libm branch (rare; only odd data).
     if (chordProducts(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2))
-    {
-      for (int k = 0; k < static_cast<int>(K); ++k)
-      {
-        const int kp = k - std::min(H[k], L[k]), kn = k + std::min(H[k], Rr[k]);
-        double sp, cp, sn, cn;
-        smallSinCos(c * wrapPiD(azp[kp] - azp[k]), sp, cp);
-        smallSinCos(c * wrapPiD(azp[kn] - azp[k]), sn, cn);
-        const double vx = rho[k] - rp[kp] * cp, vy = -(rp[kp] * sp);
-        const double ux = rp[kn] * cn - rho[k], uy = rp[kn] * sn;
-        CROSS[k] = vx * uy - vy * ux;
-        DOT[k] = vx * ux + vy * uy;
-        V2[k] = vx * vx + vy * vy;
-        U2[k] = ux * ux + uy * uy;
-      }
-    }
+      chordProductsLibm(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2);
     // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
     for (std::uint32_t k = 0; k < K; ++k)
     {

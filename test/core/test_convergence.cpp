@@ -77,3 +77,38 @@ TEST(Convergence, PaperZPlaneFormulaMissesTheConeAtNonZeroElevation)
               zpl.max_error);
   EXPECT_GT(zpl.max_error, 5 * dev.max_error);
 }
+
+// A ring so coarse that the chords turn by more than the small-angle polynomial covers (a
+// hexagon: 60 deg between samples, one-sample chords): the features must switch to libm's sine
+// and cosine for the ring (the polynomial's cosine is off by 3.6e-5 at 60 deg, which makes the
+// chords 3.6e-5 too long). The chord length, turning / curvature, is then the hexagon's side
+// to within what the float azimuths allow (fastAtan2, ~1e-5 rad: at most 7e-6 here); the
+// turning angle carries fastAtan2's error too.
+TEST(Convergence, CoarseRingBeyondThePolynomialRangeTakesLibm)
+{
+  constexpr double kPiD = 3.14159265358979323846;
+  for (const int k : {6, 8})
+  {
+    const double radius = 2.0;
+    SyntheticCloud cloud(true);  // float64: the coordinates are exact
+    for (int j = 0; j < k; ++j)
+    {
+      const double th = 2.0 * kPiD * j / k;
+      cloud.add(radius * std::cos(th), radius * std::sin(th), 0.0, 0);
+    }
+    Params params;  // chord mode: at 2 m the 0.25 m chord is one sample
+    Pipeline pipe(params);
+    FrameResult res;
+    ASSERT_TRUE(pipe.process(cloud.view(), res).ok);
+    const Features& f = pipe.features();
+    ASSERT_EQ(f.curvature.size(), static_cast<std::size_t>(k));
+    const double side = 2.0 * radius * std::sin(kPiD / k), turn = 2.0 * kPiD / k;
+    for (int j = 0; j < k; ++j)
+    {
+      ASSERT_TRUE(std::isfinite(f.curvature[j]) && f.curvature[j] > 0) << "k " << k << " sample " << j;
+      const double len = static_cast<double>(f.turning[j]) / f.curvature[j];
+      EXPECT_NEAR(len / side, 1.0, 1.5e-5) << "k " << k << " sample " << j;
+      EXPECT_NEAR(f.turning[j], turn, 3e-5) << "k " << k << " sample " << j;
+    }
+  }
+}
