@@ -18,12 +18,36 @@ namespace
 {
 constexpr float kPi = 3.14159265358979f;
 
+// The input pass's entries for point i: its range decides validity (NaN and inf fail both
+// comparisons); the entries of invalid points are written too (x / y then hold values nothing
+// reads). Shared by the vectorized reader below and the generic loop of readPoints.
+struct PointEntries
+{
+  double* range;
+  float* x;
+  float* y;
+  std::int32_t* ring;
+  PointState* state;
+  std::int32_t* grid_pos;
+};
+inline void storePoint(const PointEntries& out, std::size_t i, double x, double y, double z, std::int32_t ring,
+                       double rmin, double rmax)
+{
+  const double range = std::sqrt(x * x + y * y + z * z);
+  const bool valid = (range >= rmin) & (range <= rmax);
+  out.range[i] = range;
+  out.x[i] = static_cast<float>(x);
+  out.y[i] = static_cast<float>(y);
+  out.ring[i] = valid ? ring : -1;
+  out.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
+  out.grid_pos[i] = -1;
+}
+
 // The common layouts: float32 x, y, z at fixed offsets of `step`-byte records, and either a
 // uint16 ring field (velodyne, unorganized ouster; `has_ring`) or one ring for all (a row of an
 // organized cloud; `fixed_ring`). One loop without branches, early exits or per-point dispatch
-// on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES). Validity is the
-// range test (NaN and inf fail both comparisons); the entries of invalid points are written too
-// (px / py then hold values nothing reads). Returns the largest ring field read, so the caller
+// on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES). Returns the
+// largest ring field read, so the caller
 // can reject the frame after the loop. (Without a ring field, `oring` only has to lie inside the
 // record: the value read there is not used.)
 RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
@@ -33,6 +57,7 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
                                             std::int32_t* __restrict ring_out, PointState* __restrict state,
                                             std::int32_t* __restrict grid_pos)
 {
+  const PointEntries out{range_out, px, py, ring_out, state, grid_pos};
   std::uint32_t max_read = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -42,15 +67,7 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
     std::memcpy(&r16, rec + oring, sizeof r16);
     max_read = has_ring ? std::max<std::uint32_t>(max_read, r16) : max_read;
     const std::int32_t ring = has_ring ? static_cast<std::int32_t>(r16) : fixed_ring;
-    const double x = fx, y = fy, z = fz;
-    const double range = std::sqrt(x * x + y * y + z * z);
-    const bool valid = (range >= rmin) & (range <= rmax);
-    range_out[i] = range;
-    px[i] = fx;
-    py[i] = fy;
-    ring_out[i] = valid ? ring : -1;
-    state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-    grid_pos[i] = -1;
+    storePoint(out, i, fx, fy, fz, ring, rmin, rmax);
   }
   return max_read;
 }
@@ -132,6 +149,8 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   }
   else
   {
+    const PointEntries entries{prange_.data(), paz_.data(), tmp_f_.data(), ring_of_.data(), grid.state.data(),
+                               grid.grid_pos.data()};
     for (std::uint32_t row = 0; row < view.height; ++row)
     {
       const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
@@ -145,15 +164,8 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
           if (r < 0 || r >= params.max_rings) return ringError(i, r);
           if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
         }
-        const double x = readCoord(rec, view.x), y = readCoord(rec, view.y), z = readCoord(rec, view.z);
-        const double range = std::sqrt(x * x + y * y + z * z);
-        const bool valid = range >= rmin && range <= rmax;  // NaN and inf fail both
-        prange_[i] = range;
-        paz_[i] = static_cast<float>(x);
-        tmp_f_[i] = static_cast<float>(y);
-        ring_of_[i] = valid ? ring : -1;
-        grid.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
-        grid.grid_pos[i] = -1;
+        storePoint(entries, i, readCoord(rec, view.x), readCoord(rec, view.y), readCoord(rec, view.z), ring, rmin,
+                   rmax);
       }
     }
   }
