@@ -1,7 +1,9 @@
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
 
+#include <algorithm>
 #include <boost/make_shared.hpp>
 #include <chrono>
+#include <string>
 
 #include <pluginlib/class_list_macros.hpp>
 
@@ -19,6 +21,20 @@ RingCurvatureNodelet::~RingCurvatureNodelet()
   sub_.shutdown();
 }
 
+namespace
+{
+/// Reads an int queue size from the private namespace; < 1 stops the nodelet with a message naming it.
+void readQueueSize(const ros::NodeHandle& pnh, const char* name, int& value)
+{
+  pnh.param(name, value, value);
+  if (value < 1)
+  {
+    ROS_FATAL("parameter '%s' must be >= 1 (got %d)", pnh.resolveName(name).c_str(), value);
+    throw std::runtime_error(std::string("ring_curvature: invalid parameter ") + name);
+  }
+}
+}  // namespace
+
 void RingCurvatureNodelet::onInit()
 {
   ros::NodeHandle& nh = getNodeHandle();
@@ -32,12 +48,8 @@ void RingCurvatureNodelet::onInit()
     NODELET_FATAL("invalid parameters: %s", s.message.c_str());
     throw std::runtime_error("ring_curvature: invalid parameters: " + s.message);
   }
-  pnh.param("queue_size", queue_size_, queue_size_);
-  if (queue_size_ < 1)
-  {
-    NODELET_FATAL("parameter '%s' must be >= 1 (got %d)", pnh.resolveName("queue_size").c_str(), queue_size_);
-    throw std::runtime_error("ring_curvature: invalid parameter queue_size");
-  }
+  readQueueSize(pnh, "queue_size", queue_size_);
+  readQueueSize(pnh, "publish_queue_size", publish_queue_size_);
   processor_ = std::make_unique<FrameProcessor>(params);
   window_start_ = ros::WallTime::now();
 
@@ -54,12 +66,15 @@ void RingCurvatureNodelet::onInit()
 
   const ros::SubscriberStatusCallback cb = [this](const ros::SingleSubscriberPublisher&) { connectCb(); };
   std::lock_guard<std::mutex> lock(connect_mutex_);
-  pub_labelled_ = pnh.advertise<sensor_msgs::PointCloud2>("labelled_points", 1, cb, cb);
-  pub_primitives_ = pnh.advertise<PrimitiveArray>("primitives", 1, cb, cb);
-  pub_edges_ = pnh.advertise<sensor_msgs::PointCloud2>("edges", 1, cb, cb);
-  pub_planes_ = pnh.advertise<sensor_msgs::PointCloud2>("planes", 1, cb, cb);
-  pub_markers_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, cb, cb);
-  pub_stats_ = pnh.advertise<FrameStats>("frame_stats", 10, cb, cb);
+  // Intra-process subscribers get every message whatever the queue; the queue only decides what a
+  // subscriber in another process loses when it reads slower than the sensor.
+  const auto q = static_cast<std::uint32_t>(publish_queue_size_);
+  pub_labelled_ = pnh.advertise<sensor_msgs::PointCloud2>("labelled_points", q, cb, cb);
+  pub_primitives_ = pnh.advertise<PrimitiveArray>("primitives", q, cb, cb);
+  pub_edges_ = pnh.advertise<sensor_msgs::PointCloud2>("edges", q, cb, cb);
+  pub_planes_ = pnh.advertise<sensor_msgs::PointCloud2>("planes", q, cb, cb);
+  pub_markers_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", q, cb, cb);
+  pub_stats_ = pnh.advertise<FrameStats>("frame_stats", std::max(q, 10U), cb, cb);
   NODELET_INFO("ready: subscribes to %s lazily (while an output has subscribers), outputs in %s",
                nh.resolveName("velodyne_points").c_str(), pnh.getNamespace().c_str());
 }

@@ -65,7 +65,8 @@ private:
   ros::Subscriber sub_;
   std::atomic<bool> subscribed_{false};  // sub_ as seen from other threads (diagnostics)
   ros::Publisher pub_labelled_, pub_primitives_, pub_edges_, pub_planes_, pub_markers_, pub_stats_;
-  int queue_size_ = 1;
+  int queue_size_ = 1;          // ~queue_size: input subscriber queue
+  int publish_queue_size_ = 1;  // ~publish_queue_size: outgoing queue per remote subscriber
 
   // Guards processor_ (its parameters change from the reconfigure callback) and stats_.
   mutable std::mutex process_mutex_;
