@@ -51,6 +51,9 @@ struct ScanGrid
   std::vector<std::uint32_t> duplicates;  ///< input indices of the Duplicate points, ascending
 
   std::size_t num_input = 0, num_valid = 0, num_duplicates = 0, num_second_returns = 0;
+  /// Of the duplicates and second returns, those found identical to one of the last two points of
+  /// their ring as they came (dual-return firing order), and so kept off the azimuth sort.
+  std::size_t num_folded = 0;
 
   std::size_t size() const { return index.size(); }
   std::uint32_t ringSize(int n) const { return ring_begin[n + 1] - ring_begin[n]; }
@@ -69,13 +72,23 @@ public:
 private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
-  /// How a ring arrived, in firing order: steps down in azimuth, and its largest drop and rise.
+  /// How a ring arrived, in firing order: steps down in azimuth, and its largest drop and rise;
+  /// and its last two points kept (azimuth, range, input index) to fold identical returns.
   struct RingOrder
   {
     std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
     float drop = -3.14159265358979f, rise = 3.14159265358979f, prev = 0.0f;
+    float az1 = 0.0f, az2 = 0.0f;
+    double r1 = -1.0, r2 = -1.0;  // no valid range is negative: nothing matches before two points
+    std::uint32_t i1 = 0, i2 = 0;
   };
-  void sortRings(ScanGrid& grid);  // ring_sort.cpp
+  /// A point identical (azimuth and range) to an earlier one of its ring, kept off the sort.
+  struct Follower
+  {
+    std::uint32_t point, of;
+  };
+  void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
+  void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k, const RingOrder& order);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);
@@ -94,6 +107,10 @@ private:
   std::vector<float> sorted_az_;          // and its azimuth
   std::vector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
   std::vector<RingOrder> ring_order_;
+  std::vector<Follower> followers_;  // in input order; the first num_followers_ are this frame's
+  std::size_t num_followers_ = 0;
+  std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
+  std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // y before the azimuths; elevations; kept azimuth spacings
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position
 };

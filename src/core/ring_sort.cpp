@@ -27,7 +27,7 @@ inline float keyAzimuth(std::uint64_t key)
 inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
 }  // namespace
 
-void ScanGridBuilder::sortRings(ScanGrid& grid)
+void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
 {
   const std::size_t n = grid.num_input;
   const std::size_t R = static_cast<std::size_t>(grid.num_rings);
@@ -36,22 +36,53 @@ void ScanGridBuilder::sortRings(ScanGrid& grid)
   //    than read each point's azimuth through its input index (a scattered read per comparison).
   grid.ring_begin.assign(R + 1, 0);
   for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
-  const std::size_t m = grid.ring_begin[R];
+  std::size_t m = grid.ring_begin[R];
   keys_.resize(m);
   keys_tmp_.resize(m);
   bin_start_.assign(grid.ring_begin.begin(), grid.ring_begin.end());
   std::uint32_t* const next = bin_start_.data();
   std::uint64_t* const unsorted = keys_tmp_.data();
-  // The same pass follows each ring in firing order for sortRing: how often it steps down in
-  // azimuth, and where its largest drop and rise are (the seam, read forwards or backwards).
+  //    The same pass follows each ring in firing order for sortRing: how often it steps down
+  //    in azimuth, and where its largest drop and rise are (the seam, read forwards or
+  //    backwards).
+  //    It also folds identical returns. Dual-return drivers send both returns of a firing,
+  //    identical where the beam met one surface (half the points of a dual-return VLP-16
+  //    frame), one or two places apart in the ring's sequence. Such a point (same azimuth and
+  //    range as one of the ring's last two kept points) stays off the sort, and
+  //    resolveFollowers gives it the state and grid position of its twin. That is exactly what
+  //    removeDuplicates would have decided: sorted by (azimuth, index) it comes after its twin,
+  //    in the same firing (same azimuth), never a representative, with the same range, hence
+  //    the same verdict; and the spacings measureResolution keeps do not change (it drops the
+  //    zero ones). It needs same_firing > 0 (`fold_identical`).
   ring_order_.assign(R, RingOrder{});
   RingOrder* const order = ring_order_.data();
+  if (followers_.size() < n) followers_.resize(n);  // only grows: no fill per frame
+  Follower* const followers = followers_.data();
+  std::size_t num_followers = 0;
+  unfolded_largest_ = 0;
+  for (std::size_t r = 0; r < R; ++r) unfolded_largest_ = std::max(unfolded_largest_, ring_count_[r + 1]);
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::int32_t r = ring_of_[i];
     if (r < 0) continue;
     const float az = paz_[i];
     RingOrder& o = order[r];
+    if (fold_identical)
+    {
+      const double range = prange_[i];
+      const bool same1 = (az == o.az1) & (range == o.r1), same2 = (az == o.az2) & (range == o.r2);
+      if (same1 | same2)
+      {
+        followers[num_followers++] = {static_cast<std::uint32_t>(i), same1 ? o.i1 : o.i2};
+        continue;
+      }
+      o.az2 = o.az1;
+      o.r2 = o.r1;
+      o.i2 = o.i1;
+      o.az1 = az;
+      o.r1 = range;
+      o.i1 = static_cast<std::uint32_t>(i);
+    }
     const std::uint32_t j = next[r] - grid.ring_begin[static_cast<std::size_t>(r)];  // position in the ring
     const float d = az - o.prev;
     o.prev = az;
@@ -72,13 +103,23 @@ void ScanGridBuilder::sortRings(ScanGrid& grid)
     unsorted[next[r]++] = sortKey(az, static_cast<std::uint32_t>(i));
   }
 
+  num_followers_ = num_followers;
   // 2) per ring, order the keys: (azimuth, input index) is a strict total order, so the result
   //    depends neither on the order the points came in nor on which sort finishes the ring.
+  //    The rings close up over the folded points as they are sorted.
+  //    (The kept counts are taken first: sortRing's bucket sort reuses bin_start_, i.e. next.)
+  ring_kept_.resize(R);
+  for (std::size_t r = 0; r < R; ++r) ring_kept_[r] = next[r] - grid.ring_begin[r];
+  std::uint32_t kept = 0;
   for (std::size_t r = 0; r < R; ++r)
   {
-    const std::uint32_t b = grid.ring_begin[r], e = grid.ring_begin[r + 1];
-    sortRing(unsorted + b, keys_.data() + b, e - b, ring_order_[r]);
+    const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];
+    grid.ring_begin[r] = kept;
+    sortRing(unsorted + b, keys_.data() + kept, k, ring_order_[r]);
+    kept += k;
   }
+  grid.ring_begin[R] = kept;
+  m = kept;
   tmp_index_.resize(m);
   sorted_az_.resize(m);
   for (std::size_t p = 0; p < m; ++p)
@@ -169,6 +210,23 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
       std::sort(dst + lo, dst + hi);
     }
   }
+}
+
+void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
+{
+  // Input order: a twin folded itself (two returns, both identical) was resolved before.
+  PointState* const state = grid.state.data();
+  std::int32_t* const grid_pos = grid.grid_pos.data();
+  for (std::size_t k = 0; k < num_followers_; ++k)
+  {
+    const Follower& f = followers_[k];
+    const PointState twin = state[f.of];
+    const PointState s = twin == PointState::OnGrid ? PointState::Duplicate : twin;
+    state[f.point] = s;
+    grid_pos[f.point] = grid_pos[f.of];  // the twin's position, or its representative's
+    ++(s == PointState::Duplicate ? grid.num_duplicates : grid.num_second_returns);
+  }
+  grid.num_folded = num_followers_;
 }
 
 }  // namespace ring_curvature

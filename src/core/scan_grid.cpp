@@ -62,7 +62,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   grid.index.clear();
   grid.state.clear();
   grid.grid_pos.clear();
-  grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = 0;
+  grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = grid.num_folded = 0;
   for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
   grid.azimuth.clear();
   grid.duplicates.clear();
@@ -84,7 +84,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   if (view.organized())
     placeOrganized(view, grid);
   else
-    sortRings(grid);
+    sortRings(grid, params.duplicate_azimuth_fraction > 0.0f);
   measureResolution(params, grid);
   if (!view.organized()) removeDuplicates(params, grid);
 
@@ -159,6 +159,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
     grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
   }
+  if (!view.organized()) resolveFollowers(grid);  // needs the grid positions just set
   // The Duplicate points in ascending input order (their grid_pos was set by removeDuplicates),
   // by a branch-free compaction: dual-return frames make the test a coin toss per point.
   grid.duplicates.clear();
@@ -228,7 +229,8 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
   float* const kept = tmp_f_.data();
   const float* const az = sorted_az_.data();
   std::size_t count = 0;
-  std::uint32_t largest = 1;
+  // (the rings as they came: identical returns folded by sortRings count here too)
+  std::uint32_t largest = std::max(1u, grid.organized ? 0u : unfolded_largest_);
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <random>
+#include <utility>
 
 #include "../support/ray_scene.hpp"
 #include "ring_curvature/pipeline.hpp"
@@ -240,6 +242,88 @@ TEST(ScanGrid, DualReturnDuplicatesShareTheirRepresentativeLabel)
   for (const auto& pr : r.primitives.primitives)
     for (std::uint32_t j = 0; j < pr.num_points; ++j)
       EXPECT_EQ(r.primitive[r.primitives.indices[pr.first + j]], static_cast<std::int32_t>(pr.id));
+}
+
+TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
+{
+  // A dual-return driver's order (nebula's VLP-16): two firings' first returns, then their second
+  // returns, which are mostly identical copies. The grid folds a copy found among the last two
+  // points of its ring before sorting; the verdict must be the one the sort and removeDuplicates
+  // reach without folding. The reference holds the same points with every ring's first returns,
+  // then its second returns, then its third ones (same order within each firing), where no
+  // point is next to its twin and nothing is folded.
+  const ScannedFrame f = scan(room(), SensorModel::uniform(4, -5, 5, 0.4));
+  const std::size_t n = f.cloud.size(), per_ring = n / 4;
+  const auto* src = f.cloud.bytes().data();
+  struct Item
+  {
+    std::size_t from;
+    int kind;  // 0: first return, 1: identical copy, 2: a second return 0.4 m further
+    int rank;  // 0: first, 1: second, 2: third return of its firing
+  };
+  std::vector<Item> dual_order;
+  for (std::size_t ring = 0; ring < 4; ++ring)
+    for (std::size_t k = 0; k + 1 < per_ring; k += 2)
+    {
+      const std::size_t a = ring * per_ring + k, b = a + 1;
+      const int copy = k % 14 == 0 ? 2 : 1;
+      dual_order.insert(dual_order.end(), {{a, 0, 0}, {b, 0, 0}, {a, copy, 1}, {b, 1, 1}});
+      if (k % 22 == 0) dual_order.push_back({a, copy, 2});  // a third, as the second
+    }
+  std::vector<Item> ref_order = dual_order;
+  std::stable_sort(ref_order.begin(), ref_order.end(), [&](const Item& u, const Item& v) {
+    return std::make_pair(u.from / per_ring, u.rank) < std::make_pair(v.from / per_ring, v.rank);
+  });
+  auto build = [&](const std::vector<Item>& items) {
+    SyntheticCloud c;
+    for (const Item& it : items)
+    {
+      float xyz[3];
+      std::memcpy(xyz, src + it.from * 22, sizeof xyz);
+      const double r = std::sqrt(double(xyz[0]) * xyz[0] + double(xyz[1]) * xyz[1] + double(xyz[2]) * xyz[2]);
+      const double s = it.kind == 2 ? (r + 0.4) / r : 1.0;
+      c.add(xyz[0] * s, xyz[1] * s, xyz[2] * s, static_cast<int>(it.from / per_ring));
+    }
+    return c;
+  };
+  const SyntheticCloud dual = build(dual_order), ref = build(ref_order);
+  Pipeline pd, pr;
+  FrameResult rd, rr;
+  ASSERT_TRUE(pd.process(dual.view(), rd).ok);
+  ASSERT_TRUE(pr.process(ref.view(), rr).ok);
+  const ScanGrid &gd = pd.grid(), &gr = pr.grid();
+  EXPECT_GT(gd.num_folded, dual_order.size() / 3);  // most copies were folded
+  EXPECT_EQ(gr.num_folded, 0u);
+  EXPECT_GT(gd.num_second_returns, 0u);
+  EXPECT_EQ(gd.num_valid, gr.num_valid);
+  EXPECT_EQ(gd.num_duplicates, gr.num_duplicates);
+  EXPECT_EQ(gd.num_second_returns, gr.num_second_returns);
+  EXPECT_EQ(gd.azimuth_resolution, gr.azimuth_resolution);
+  // where each item of the dual order sits in the reference
+  std::vector<std::size_t> at(dual_order.size());
+  {
+    std::vector<std::size_t> ids(dual_order.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    std::stable_sort(ids.begin(), ids.end(), [&](std::size_t u, std::size_t v) {
+      const Item &a = dual_order[u], &b = dual_order[v];
+      return std::make_pair(a.from / per_ring, a.rank) < std::make_pair(b.from / per_ring, b.rank);
+    });
+    for (std::size_t q = 0; q < ids.size(); ++q) at[ids[q]] = q;
+  }
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < dual_order.size(); ++i)
+  {
+    const std::size_t j = at[i];
+    const bool curv_same = std::memcmp(&rd.curvature[i], &rr.curvature[j], sizeof(float)) == 0;
+    same += gd.state[i] == gr.state[j] && rd.label[i] == rr.label[j] && rd.primitive[i] == rr.primitive[j] &&
+                    curv_same
+                ? 1
+                : 0;
+  }
+  EXPECT_EQ(same, dual_order.size());
+  ASSERT_EQ(rd.primitives.primitives.size(), rr.primitives.primitives.size());
+  for (std::size_t k = 0; k < rd.primitives.primitives.size(); ++k)
+    EXPECT_EQ(rd.primitives.primitives[k].num_points, rr.primitives.primitives[k].num_points);
 }
 
 TEST(ScanGrid, OrganizedCloudUsesRowsAndColumns)
