@@ -10,6 +10,7 @@
 
 #include "ring_curvature/params.hpp"
 #include "ring_curvature/types.hpp"
+#include "ring_curvature/uninitialized_vector.hpp"
 
 namespace ring_curvature
 {
@@ -39,16 +40,17 @@ struct ScanGrid
   std::vector<std::uint32_t> index;   ///< input point index
   // double: float64 input keeps its precision, and the convergence study (paper Table 1)
   // reaches steps where float32 rounding of coordinates would dominate the error.
-  std::vector<double> x, y, z;
-  std::vector<double> range;          ///< 3-D range rho [m]
+  // (Uninitialized: the arrays below are resized each frame and then written in full.)
+  UninitializedVector<double> x, y, z;
+  UninitializedVector<double> range;  ///< 3-D range rho [m]
   std::vector<float> azimuth;         ///< [rad] in [-pi, pi)
   std::vector<std::uint8_t> linked;   ///< 1 when connected to its predecessor on the ring (no gap)
   std::vector<std::int32_t> up;       ///< nearest position on ring n+1 (azimuth), -1 if none
 
   // per input point
-  std::vector<PointState> state;
-  std::vector<std::int32_t> grid_pos; ///< grid position (for Duplicate: its representative), or -1
-  std::vector<std::uint32_t> duplicates;  ///< input indices of the Duplicate points, ascending
+  UninitializedVector<PointState> state;
+  UninitializedVector<std::int32_t> grid_pos; ///< grid position (for Duplicate: its representative), or -1
+  UninitializedVector<std::uint32_t> duplicates;  ///< input indices of the Duplicate points, ascending
 
   std::size_t num_input = 0, num_valid = 0, num_duplicates = 0, num_second_returns = 0;
   /// Of the duplicates and second returns, those found identical to one of the last two points of
