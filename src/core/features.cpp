@@ -419,12 +419,22 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   double* S1 = S0 + (E + 1);            // sum j * rho
   double* S2 = S1 + (E + 1);            // sum rho^2
   S0[0] = S1[0] = S2[0] = 0.0;
-  for (std::size_t e = 0; e < E; ++e)
   {
-    const double r = rp[static_cast<std::int64_t>(e) - ext];  // the seam extensions are in the padding
-    S0[e + 1] = S0[e] + r;
-    S1[e + 1] = S1[e] + static_cast<double>(e) * r;
-    S2[e + 1] = S2[e] + r * r;
+    // Running sums in registers (the same additions in the same order): read back from the
+    // arrays, which may alias rp as far as the compiler knows, each step waited on the store
+    // of the one before (15 % of this function under perf).
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    const double* const rs = rp - ext;  // the seam extensions are in the padding
+    for (std::size_t e = 0; e < E; ++e)
+    {
+      const double r = rs[e];
+      s0 += r;
+      s1 += static_cast<double>(e) * r;
+      s2 += r * r;
+      S0[e + 1] = s0;
+      S1[e + 1] = s1;
+      S2[e + 1] = s2;
+    }
   }
   // Residual variance of rho over extended indices [lo, hi): plain (Eq 10) or after removing
   // the least-squares line through the window.
