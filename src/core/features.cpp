@@ -108,6 +108,26 @@ RC_SIMD_CLONES void chordSamples(int K, const double* __restrict rho, double cos
   }
 }
 
+// Jump mode: link (k-1, k) of each sample k, on the padded ranges `rp`: how badly each side's
+// linear extrapolation predicts the other side's range, the smaller of the two, relative to
+// range; NaN where k has no link back (L[k] = 0). Branch-free: both predictions are formed and
+// the run lengths choose, and every link's quotient is formed, then kept or not, so that the
+// loop vectorizes (its divisions were 7 % of the feature stage one at a time).
+RC_SIMD_CLONES void linkJumps(int K, const int* __restrict L, const int* __restrict R, const double* __restrict rp,
+                              float* __restrict jump)
+{
+  constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
+  for (int k = 0; k < K; ++k)
+  {
+    const double r1 = rp[k], r0 = rp[k - 1], rm = rp[k - 2], r2 = rp[k + 1];
+    const double e_flat = std::fabs(r1 - r0);
+    const double e_left = L[k] >= 2 ? std::fabs(r1 - (2.0 * r0 - rm)) : e_flat;
+    const double e_right = R[k] >= 1 ? std::fabs(r0 - (2.0 * r1 - r2)) : e_flat;
+    const float j = static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
+    jump[k] = L[k] >= 1 ? j : kNaNf;
+  }
+}
+
 // Discontinuity of each sample: the larger of its two links' jumps (jump[k] is link (k-1, k),
 // NaN where there is none; jump[K] repeats jump[0] for the seam). NaN only when both are.
 RC_SIMD_CLONES void largerLink(int K, const int* __restrict R, const float* __restrict jump, float* __restrict disc)
@@ -244,22 +264,29 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     // One pass each way. A closed ring's runs continue across the seam: the run entering the
     // first sample is the one a lap around the ring would leave, found by a walk of at most
     // `cap` links. (An open ring has linked[first] = 0, so its runs start at 0.)
+    // The run length is the distance to the nearest gap on that side, capped: each pass carries
+    // only the gap's position from sample to sample (one select), where carrying the capped
+    // count itself chained an add, a min and a select per sample (15 % of this function).
+    // Before the first gap, a virtual one `run` samples beyond the ring's end continues the
+    // count from across the seam.
     int run = 0;
     if (closed)
       for (std::uint32_t j = K; j-- > 0 && lk[j] != 0 && run < cap;) ++run;
+    std::int64_t gap = -static_cast<std::int64_t>(run) - 1;  // the last gap at or before k
     for (std::uint32_t k = 0; k < K; ++k)
     {
-      run = lk[k] != 0 ? std::min(run + 1, cap) : 0;
-      L[k] = run;
+      gap = lk[k] != 0 ? gap : static_cast<std::int64_t>(k);
+      L[k] = static_cast<int>(std::min<std::int64_t>(static_cast<std::int64_t>(k) - gap, cap));
     }
     run = 0;
     if (closed)
       for (std::uint32_t j = 1; j <= K && lk[j == K ? 0 : j] != 0 && run < cap; ++j) ++run;
+    gap = static_cast<std::int64_t>(K) + run;  // the first sample at or after k with no link onwards
     for (std::uint32_t k = K; k-- > 0;)
     {
       const bool ok = k + 1 < K ? lk[k + 1] != 0 : closed && lk[0] != 0;
-      run = ok ? std::min(run + 1, cap) : 0;
-      Rr[k] = run;
+      gap = ok ? gap : static_cast<std::int64_t>(k);
+      Rr[k] = static_cast<int>(std::min<std::int64_t>(gap - static_cast<std::int64_t>(k), cap));
     }
   }
 
@@ -390,21 +417,12 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     // Link (k-1, k): how badly each side's linear extrapolation predicts the other side's range,
     // the smaller of the two, relative to range. A grazing plane is predicted well from both
     // sides; a depth jump from neither. A point takes the larger of its two links.
-    // Branch-free on the padded ranges: both predictions are formed and the run lengths choose.
-    auto linkJump = [&](std::uint32_t k) -> float {  // link between k-1 and k; requires L[k] >= 1
-      const auto kk = static_cast<std::int64_t>(k);
-      const double r1 = rp[kk], r0 = rp[kk - 1], rm = rp[kk - 2], r2 = rp[kk + 1];
-      const double e_flat = std::fabs(r1 - r0);
-      const double e_left = L[k] >= 2 ? std::fabs(r1 - (2.0 * r0 - rm)) : e_flat;
-      const double e_right = Rr[k] >= 1 ? std::fabs(r0 - (2.0 * r1 - r2)) : e_flat;
-      return static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
-    };
     // Each link once (a point shares its links with its neighbours): jump[k] is link (k-1, k),
     // NaN where there is none, and jump[K] repeats jump[0] (the seam's link of a closed ring), so
     // that largerLink reads both links of every sample without a wrap.
     auto& jump = jump_;
     jump.resize(K + 1);
-    for (std::uint32_t k = 0; k < K; ++k) jump[k] = L[k] >= 1 ? linkJump(k) : kNaN;
+    linkJumps(static_cast<int>(K), L, Rr, rp, jump.data());
     jump[K] = jump[0];
     largerLink(static_cast<int>(K), Rr, jump.data(), out.discontinuity.data() + b);
   }
