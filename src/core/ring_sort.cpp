@@ -1,5 +1,6 @@
 // Orders the valid points of each ring by azimuth in O(n): a counting sort by ring, then per
 // ring an insertion sort of the nearly sorted firing order (a bucket sort when it is not).
+// Identical dual returns are folded on the way and given their twin's verdict afterwards.
 #include "ring_curvature/scan_grid.hpp"
 
 #include <algorithm>
