@@ -270,10 +270,11 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
       dual_order.insert(dual_order.end(), {{a, 0, 0}, {b, 0, 0}, {a, copy, 1}, {b, 1, 1}});
       if (k % 22 == 0) dual_order.push_back({a, copy, 2});  // a third, as the second
     }
+  // the reference order: by ring, then by rank, each keeping the dual order
+  const auto ref_key = [per_ring](const Item& it) { return std::make_pair(it.from / per_ring, it.rank); };
   std::vector<Item> ref_order = dual_order;
-  std::stable_sort(ref_order.begin(), ref_order.end(), [&](const Item& u, const Item& v) {
-    return std::make_pair(u.from / per_ring, u.rank) < std::make_pair(v.from / per_ring, v.rank);
-  });
+  std::stable_sort(ref_order.begin(), ref_order.end(),
+                   [&](const Item& u, const Item& v) { return ref_key(u) < ref_key(v); });
   auto build = [&](const std::vector<Item>& items) {
     SyntheticCloud c;
     for (const Item& it : items)
@@ -304,10 +305,8 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   {
     std::vector<std::size_t> ids(dual_order.size());
     std::iota(ids.begin(), ids.end(), 0);
-    std::stable_sort(ids.begin(), ids.end(), [&](std::size_t u, std::size_t v) {
-      const Item &a = dual_order[u], &b = dual_order[v];
-      return std::make_pair(a.from / per_ring, a.rank) < std::make_pair(b.from / per_ring, b.rank);
-    });
+    std::stable_sort(ids.begin(), ids.end(),
+                     [&](std::size_t u, std::size_t v) { return ref_key(dual_order[u]) < ref_key(dual_order[v]); });
     for (std::size_t q = 0; q < ids.size(); ++q) at[ids[q]] = q;
   }
   std::size_t same = 0;
