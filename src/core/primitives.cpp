@@ -313,53 +313,53 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   //   here rather than keeping float copies from the fill: the moments read the same doubles
   //   right after, while a copy was 16 more bytes a point to write and read, which cost on the
   //   large clouds.)
-  // - second moments about the float centroid cast to double. Only the lower triangle is
-  //   summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the upper
-  //   triangle is a copy of it, made once per primitive.
+  // - second moments about the float centroid cast to double. Only the six distinct entries
+  //   are summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the matrix
+  //   is filled from them once per primitive.
+  // A point's x, y, z (and a copy of z, unused) go through the box and centroid in one float
+  // vector (GCC / Clang vector extensions): each lane the same conversion, min, max and sum as
+  // the scalar code, in half its instructions (with the moments below, -10 % of the stage's
+  // instructions on the VLP-16 frames).
+  using F4 = float __attribute__((vector_size(16)));
+  using D4 = double __attribute__((vector_size(32)));  // converted as two halves without AVX
+  const auto point = [gx, gy, gz](std::uint32_t p) {
+    return __builtin_convertvector((D4{gx[p], gy[p], gz[p], gz[p]}), F4);
+  };
   for (auto& pr : out.primitives)
   {
     const std::uint32_t* const sp = slot_pos + pr.first;
     const std::uint32_t np = pr.num_points;
-    float lox = static_cast<float>(gx[sp[0]]), loy = static_cast<float>(gy[sp[0]]), loz = static_cast<float>(gz[sp[0]]);
-    float hix = lox, hiy = loy, hiz = loz, sx = 0, sy = 0, sz = 0;
+    F4 lo = point(sp[0]), hi = lo, sum = F4{0, 0, 0, 0};
     const std::uint32_t ng = grid_size[pr.id];
     for (std::uint32_t k = 0; k < ng; ++k)
     {
-      const std::uint32_t p = sp[k];
-      const float vx = static_cast<float>(gx[p]), vy = static_cast<float>(gy[p]), vz = static_cast<float>(gz[p]);
-      lox = std::min(lox, vx), loy = std::min(loy, vy), loz = std::min(loz, vz);
-      hix = std::max(hix, vx), hiy = std::max(hiy, vy), hiz = std::max(hiz, vz);
-      sx += vx, sy += vy, sz += vz;
+      const F4 v = point(sp[k]);
+      lo = v < lo ? v : lo;  // std::min(lo, v), lane by lane
+      hi = hi < v ? v : hi;  // std::max(hi, v)
+      sum += v;
     }
-    for (std::uint32_t k = ng; k < np; ++k)  // duplicates
-    {
-      const std::uint32_t p = sp[k];
-      sx += static_cast<float>(gx[p]), sy += static_cast<float>(gy[p]), sz += static_cast<float>(gz[p]);
-    }
-    pr.bbox_min = Eigen::Vector3f(lox, loy, loz);
-    pr.bbox_max = Eigen::Vector3f(hix, hiy, hiz);
-    pr.centroid = Eigen::Vector3f(sx, sy, sz);
+    for (std::uint32_t k = ng; k < np; ++k) sum += point(sp[k]);  // duplicates
+    pr.bbox_min = Eigen::Vector3f(lo[0], lo[1], lo[2]);
+    pr.bbox_max = Eigen::Vector3f(hi[0], hi[1], hi[2]);
+    pr.centroid = Eigen::Vector3f(sum[0], sum[1], sum[2]);
     pr.centroid /= static_cast<float>(np);
     const Eigen::Vector3d c = pr.centroid.cast<double>();
-    // x and y in the two lanes of an Array2d (one subtraction, three products and sums for
-    // five of the six entries): mx sums (dx dx, dy dx), my (dx dy, dy dy), mz (dx dz, dy dz),
-    // each lane the same operations as the scalar entry (a product of two doubles does not
-    // depend on their order).
-    const Eigen::Array2d cxy(c.x(), c.y());
-    Eigen::Array2d mx = Eigen::Array2d::Zero(), my = Eigen::Array2d::Zero(), mz = Eigen::Array2d::Zero();
-    double m22 = 0;
+    // The six entries as three Array2d sums, (dx dx, dy dy), (dx dy, dy dz) and (dz dx, dz dz):
+    // three products and sums a point instead of four and four; each lane the same operations
+    // as the scalar entry (a product of two doubles does not depend on their order).
+    const Eigen::Array2d cxy(c.x(), c.y()), czz(c.z(), c.z());
+    Eigen::Array2d m0 = Eigen::Array2d::Zero(), m1 = Eigen::Array2d::Zero(), m2 = Eigen::Array2d::Zero();
     for (std::uint32_t k = 0; k < np; ++k)
     {
       const std::uint32_t p = sp[k];
-      const Eigen::Array2d dxy = Eigen::Array2d(gx[p], gy[p]) - cxy;
-      const double dz = gz[p] - c.z();
-      mx += dxy * dxy.x();
-      my += dxy * dxy.y();
-      mz += dxy * dz;
-      m22 += dz * dz;
+      const Eigen::Array2d d = Eigen::Array2d(gx[p], gy[p]) - cxy;
+      const Eigen::Array2d dz = Eigen::Array2d::Constant(gz[p]) - czz;
+      m0 += d * d;
+      m1 += d * Eigen::Array2d(d.y(), dz.x());
+      m2 += dz * Eigen::Array2d(d.x(), dz.y());
     }
     Eigen::Matrix3d cov;
-    cov << mx.x(), mx.y(), mz.x(), mx.y(), my.y(), mz.y(), mz.x(), mz.y(), m22;
+    cov << m0.x(), m1.x(), m2.x(), m1.x(), m0.y(), m1.y(), m2.x(), m1.y(), m2.y();
     cov /= static_cast<double>(np);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);
