@@ -51,6 +51,7 @@ private:
   };
   std::vector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
   std::vector<std::uint32_t> run_;      // start of the run of each grid position
+  std::vector<std::uint8_t> join_;      // 1 where a position joins its predecessor's run
   std::vector<Run> runs_;               // the runs of wanted labels, in grid order
   std::vector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
   std::vector<std::uint32_t> roots_;    // the roots, in grid order
