@@ -66,8 +66,9 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
 {
   const std::size_t m = g.size();
   out.primitives.clear();
-  out.indices.clear();
-  out.of_grid.resize(m);  // every entry is written below
+  // indices and of_grid: every entry is written below, so neither is cleared: a resize then
+  // fills only what exceeds last frame's size (after a clear, resize zero-filled every index)
+  out.of_grid.resize(m);
   parent_.resize(m);
   run_.resize(m);
   runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
@@ -265,7 +266,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     grid_size[prim.id] = grid_size[k];
     out.primitives.push_back(prim);
   }
-  out.indices.resize(total);
+  out.indices.resize(total);  // not cleared above: see of_grid
 
   // Indices, run by run: a run is a block of consecutive positions and input indices. Each
   // entry of `indices` also gets its grid position (slot_pos_), so that the sums below walk a
