@@ -35,38 +35,81 @@ std_msgs::ColorRGBA colourOf(Label label, float alpha)
 }
 
 
-/// The finite points of one primitive, read in place from the view. Empty when any index is out
-/// of range (a primitive set that does not belong to this cloud: draw nothing rather than garbage).
-std::vector<Eigen::Vector3f> pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim,
-                                      const PointCloudView& cloud)
+/// The finite points of one primitive, read in place from the view, into `pts` (a buffer reused
+/// for every primitive of the frame: one allocation per frame, not one per primitive). Left
+/// empty when any index is out of range (a primitive set that does not belong to this cloud: draw
+/// nothing rather than garbage).
+void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
+              std::vector<Eigen::Vector3f>& pts)
 {
-  std::vector<Eigen::Vector3f> pts;
+  pts.clear();
   const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
   if (end > prims.indices.size() || cloud.data == nullptr || !cloud.x.present() ||
       !cloud.y.present() || !cloud.z.present())
-    return pts;
-  pts.reserve(prim.num_points);
+    return;
   const bool float32 = cloud.x.type == ScalarType::Float32 && cloud.y.type == ScalarType::Float32 &&
                        cloud.z.type == ScalarType::Float32;
-  for (std::size_t k = prim.first; k < end; ++k)
+  // Rows without padding (every cloud makeView accepts): record i starts at i * point_step, the
+  // same address record(i) computes with a division and a modulo per point.
+  const std::uint8_t* const data = cloud.data;
+  const std::size_t step = cloud.point_step;
+  const bool flat = cloud.height == 1 || cloud.row_step == static_cast<std::size_t>(cloud.width) * step;
+  const std::size_t size = cloud.size(), data_size = cloud.data_size;
+  // Written through a pointer into a buffer sized for the worst case, everything the loop reads
+  // held in locals: push_back's capacity test and reloads of the view's members per point
+  // showed in the profile (planes hold most points of a frame).
+  pts.resize(prim.num_points);
+  Eigen::Vector3f* out = pts.data();
+  const std::uint32_t* const idx = prims.indices.data();
+  const auto finite = [](float x, float y, float z) {
+    return std::isfinite(x) && std::isfinite(y) && std::isfinite(z);  // Eigen's allFinite computes p - p
+  };
+  if (float32 && flat)
   {
-    const std::uint32_t i = prims.indices[k];
-    if (i >= cloud.size())
-      return {};
-    const std::uint8_t* rec = cloud.record(i);
-    if (static_cast<std::size_t>(rec - cloud.data) + cloud.point_step > cloud.data_size)
-      return {};
     // float32 (every driver) read inline: readScalar is a call and a switch per coordinate
-    const Eigen::Vector3f p =
-        float32 ? Eigen::Vector3f(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset),
-                                  readFloat32(rec + cloud.z.offset))
-                : Eigen::Vector3f(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
-                                  static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
-                                  static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
-    if (std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))  // Eigen's allFinite computes p - p
-      pts.push_back(p);
+    const std::uint8_t* const xs = data + cloud.x.offset;
+    const std::uint8_t* const ys = data + cloud.y.offset;
+    const std::uint8_t* const zs = data + cloud.z.offset;
+    for (std::size_t k = prim.first; k < end; ++k)
+    {
+      const std::size_t off = static_cast<std::size_t>(idx[k]) * step;
+      if (idx[k] >= size || off + step > data_size)
+      {
+        pts.clear();
+        return;
+      }
+      const float x = readFloat32(xs + off), y = readFloat32(ys + off), z = readFloat32(zs + off);
+      if (finite(x, y, z))
+        *out++ = Eigen::Vector3f(x, y, z);
+    }
   }
-  return pts;
+  else
+  {
+    for (std::size_t k = prim.first; k < end; ++k)
+    {
+      const std::uint32_t i = idx[k];
+      if (i >= size)
+      {
+        pts.clear();
+        return;
+      }
+      const std::uint8_t* rec = flat ? data + i * step : cloud.record(i);
+      if (static_cast<std::size_t>(rec - data) + step > data_size)
+      {
+        pts.clear();
+        return;
+      }
+      const Eigen::Vector3f p =
+          float32 ? Eigen::Vector3f(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset),
+                                    readFloat32(rec + cloud.z.offset))
+                  : Eigen::Vector3f(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
+                                    static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
+                                    static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
+      if (finite(p.x(), p.y(), p.z()))
+        *out++ = p;
+    }
+  }
+  pts.resize(static_cast<std::size_t>(out - pts.data()));
 }
 
 visualization_msgs::Marker baseMarker(const std_msgs::Header& header, const char* ns,
@@ -160,7 +203,7 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   out.markers.push_back(std::move(arrow));
 }
 
-void addEdge(const PrimitiveInfo& prim, std::vector<Eigen::Vector3f> pts,
+void addEdge(const PrimitiveInfo& prim, std::vector<Eigen::Vector3f>& pts,
              const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
 {
   if (pts.size() < 2)
@@ -207,9 +250,10 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   clear.action = visualization_msgs::Marker::DELETEALL;
   out->markers.push_back(std::move(clear));
 
+  std::vector<Eigen::Vector3f> pts;
   for (const PrimitiveInfo& prim : prims.primitives)
   {
-    const std::vector<Eigen::Vector3f> pts = pointsOf(prims, prim, cloud);
+    pointsOf(prims, prim, cloud, pts);
     if (pts.empty())
       continue;
     switch (prim.label)
