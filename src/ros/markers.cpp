@@ -7,6 +7,7 @@
 #include <boost/make_shared.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -35,14 +36,22 @@ std_msgs::ColorRGBA colourOf(Label label, float alpha)
 }
 
 
-/// The finite points of one primitive, read in place from the view, into `pts` (a buffer reused
-/// for every primitive of the frame: one allocation per frame, not one per primitive). Left
-/// empty when any index is out of range (a primitive set that does not belong to this cloud: draw
-/// nothing rather than garbage).
-void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
-              std::vector<Eigen::Vector3f>& pts)
+/// The finite points of one primitive as three coordinate arrays (the plane loops below then
+/// work on four points per instruction). One buffer for every primitive of a frame: it only
+/// grows, `size` says how much of it holds this primitive's points.
+struct Points
 {
-  pts.clear();
+  std::vector<float> x, y, z;
+  std::size_t size = 0;
+  Eigen::Vector3f operator[](std::size_t k) const { return Eigen::Vector3f(x[k], y[k], z[k]); }
+};
+
+/// Reads the finite points of one primitive in place from the view into `pts`. Leaves it empty
+/// when any index is out of range (a primitive set that does not belong to this cloud: draw
+/// nothing rather than garbage).
+void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud, Points& pts)
+{
+  pts.size = 0;
   const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
   if (end > prims.indices.size() || cloud.data == nullptr || !cloud.x.present() ||
       !cloud.y.present() || !cloud.z.present())
@@ -55,32 +64,43 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
   const std::size_t step = cloud.point_step;
   const bool flat = cloud.height == 1 || cloud.row_step == static_cast<std::size_t>(cloud.width) * step;
   const std::size_t size = cloud.size(), data_size = cloud.data_size;
-  // Written through a pointer into a buffer sized for the worst case, everything the loop reads
-  // held in locals: push_back's capacity test and reloads of the view's members per point
-  // showed in the profile (planes hold most points of a frame).
-  pts.resize(prim.num_points);
-  Eigen::Vector3f* out = pts.data();
+  if (pts.x.size() < prim.num_points)
+  {
+    pts.x.resize(prim.num_points);
+    pts.y.resize(prim.num_points);
+    pts.z.resize(prim.num_points);
+  }
+  // Written through plain pointers, everything the loop reads held in locals: push_back's
+  // capacity test and reloads of the view's members per point showed in the profile (planes hold
+  // most points of a frame).
+  float* const xs = pts.x.data();
+  float* const ys = pts.y.data();
+  float* const zs = pts.z.data();
+  std::size_t m = 0;
   const std::uint32_t* const idx = prims.indices.data();
   const auto finite = [](float x, float y, float z) {
     return std::isfinite(x) && std::isfinite(y) && std::isfinite(z);  // Eigen's allFinite computes p - p
   };
+  const auto store = [&](float x, float y, float z) {
+    if (!finite(x, y, z))
+      return;
+    xs[m] = x;
+    ys[m] = y;
+    zs[m] = z;
+    ++m;
+  };
   if (float32 && flat)
   {
     // float32 (every driver) read inline: readScalar is a call and a switch per coordinate
-    const std::uint8_t* const xs = data + cloud.x.offset;
-    const std::uint8_t* const ys = data + cloud.y.offset;
-    const std::uint8_t* const zs = data + cloud.z.offset;
+    const std::uint8_t* const px = data + cloud.x.offset;
+    const std::uint8_t* const py = data + cloud.y.offset;
+    const std::uint8_t* const pz = data + cloud.z.offset;
     for (std::size_t k = prim.first; k < end; ++k)
     {
       const std::size_t off = static_cast<std::size_t>(idx[k]) * step;
       if (idx[k] >= size || off + step > data_size)
-      {
-        pts.clear();
         return;
-      }
-      const float x = readFloat32(xs + off), y = readFloat32(ys + off), z = readFloat32(zs + off);
-      if (finite(x, y, z))
-        *out++ = Eigen::Vector3f(x, y, z);
+      store(readFloat32(px + off), readFloat32(py + off), readFloat32(pz + off));
     }
   }
   else
@@ -89,27 +109,19 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
     {
       const std::uint32_t i = idx[k];
       if (i >= size)
-      {
-        pts.clear();
         return;
-      }
       const std::uint8_t* rec = flat ? data + i * step : cloud.record(i);
       if (static_cast<std::size_t>(rec - data) + step > data_size)
-      {
-        pts.clear();
         return;
-      }
-      const Eigen::Vector3f p =
-          float32 ? Eigen::Vector3f(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset),
-                                    readFloat32(rec + cloud.z.offset))
-                  : Eigen::Vector3f(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
-                                    static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
-                                    static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
-      if (finite(p.x(), p.y(), p.z()))
-        *out++ = p;
+      if (float32)
+        store(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset), readFloat32(rec + cloud.z.offset));
+      else
+        store(static_cast<float>(readScalar(rec + cloud.x.offset, cloud.x.type)),
+              static_cast<float>(readScalar(rec + cloud.y.offset, cloud.y.type)),
+              static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
     }
   }
-  pts.resize(static_cast<std::size_t>(out - pts.data()));
+  pts.size = m;
 }
 
 visualization_msgs::Marker baseMarker(const std_msgs::Header& header, const char* ns,
@@ -133,8 +145,18 @@ Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
   return n.cross(helper).normalized();
 }
 
-void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts,
-              const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
+// Four floats per operation (GCC/Clang vector extension). The operations are element-wise IEEE
+// single precision, so every lane rounds exactly as the scalar code does.
+typedef float Float4 __attribute__((vector_size(16)));
+inline Float4 load4(const float* p)
+{
+  Float4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header,
+              visualization_msgs::MarkerArray& out)
 {
   Eigen::Vector3f n = prim.axis;
   if (!(n.squaredNorm() > 0.0f) || !n.allFinite())
@@ -144,16 +166,35 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   // (a wall strip seen by 16 rings is long and thin; a square would misdraw it).
   const Eigen::Vector3f u0 = anyPerpendicular(n), v0 = n.cross(u0);
   // The loops below spell out Eigen's `(p - c).dot(w)` (for three floats it sums as
-  // d0 w0 + (d1 w1 + d2 w2)) on plain floats: through the expression templates every point cost
-  // several times as much (perf), and this is the output whose cost grows with the points.
+  // d0 w0 + (d1 w1 + d2 w2)) on plain floats, four points at a time: through the expression
+  // templates every point cost several times as much (perf), and this is the output whose cost
+  // grows with the points. The scalar form handles the last points.
   const float cx = prim.centroid.x(), cy = prim.centroid.y(), cz = prim.centroid.z();
-  const auto dot = [](float dx, float dy, float dz, const Eigen::Vector3f& w) {
+  const auto dot = [](auto dx, auto dy, auto dz, const Eigen::Vector3f& w) {
     return dx * w.x() + (dy * w.y() + dz * w.z());
   };
+  const float* const xs = pts.x.data();
+  const float* const ys = pts.y.data();
+  const float* const zs = pts.z.data();
+  const std::size_t m = pts.size;
   float cuu = 0, cvv = 0, cuv = 0;
-  for (const auto& p : pts)
+  std::size_t k = 0;
+  for (; k + 4 <= m; k += 4)
   {
-    const float dx = p.x() - cx, dy = p.y() - cy, dz = p.z() - cz;
+    const Float4 dx = load4(xs + k) - cx, dy = load4(ys + k) - cy, dz = load4(zs + k) - cz;
+    const Float4 qu = dot(dx, dy, dz, u0), qv = dot(dx, dy, dz, v0);
+    const Float4 uu = qu * qu, vv = qv * qv, uv = qu * qv;
+    // Summed point by point in order, as the scalar loop does (float addition does not associate).
+    for (int l = 0; l < 4; ++l)
+    {
+      cuu += uu[l];
+      cvv += vv[l];
+      cuv += uv[l];
+    }
+  }
+  for (; k < m; ++k)
+  {
+    const float dx = xs[k] - cx, dy = ys[k] - cy, dz = zs[k] - cz;
     const float qu = dot(dx, dy, dz, u0), qv = dot(dx, dy, dz, v0);
     cuu += qu * qu;
     cvv += qv * qv;
@@ -163,10 +204,31 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   const float angle = 0.5f * std::atan2(2.0f * cuv, cuu - cvv);
   const Eigen::Vector3f u = (std::cos(angle) * u0 + std::sin(angle) * v0).normalized();
   const Eigen::Vector3f v = n.cross(u);
-  float umin = 0, umax = 0, vmin = 0, vmax = 0;
-  for (const auto& p : pts)
+  // Extents: a minimum and a maximum do not depend on the order, so four running ones per bound,
+  // merged at the end. Each update is std::min / std::max's own test (a NaN never replaces the
+  // bound), and the bounds start at +0, which a -0 never replaces: the same bits as one pass.
+  Float4 umin4 = {}, umax4 = {}, vmin4 = {}, vmax4 = {};
+  k = 0;
+  for (; k + 4 <= m; k += 4)
   {
-    const float dx = p.x() - cx, dy = p.y() - cy, dz = p.z() - cz;
+    const Float4 dx = load4(xs + k) - cx, dy = load4(ys + k) - cy, dz = load4(zs + k) - cz;
+    const Float4 du = dot(dx, dy, dz, u), dv = dot(dx, dy, dz, v);
+    umin4 = du < umin4 ? du : umin4;
+    umax4 = umax4 < du ? du : umax4;
+    vmin4 = dv < vmin4 ? dv : vmin4;
+    vmax4 = vmax4 < dv ? dv : vmax4;
+  }
+  float umin = 0, umax = 0, vmin = 0, vmax = 0;
+  for (int l = 0; l < 4; ++l)
+  {
+    umin = std::min(umin, umin4[l]);
+    umax = std::max(umax, umax4[l]);
+    vmin = std::min(vmin, vmin4[l]);
+    vmax = std::max(vmax, vmax4[l]);
+  }
+  for (; k < m; ++k)
+  {
+    const float dx = xs[k] - cx, dy = ys[k] - cy, dz = zs[k] - cz;
     const float du = dot(dx, dy, dz, u), dv = dot(dx, dy, dz, v);
     umin = std::min(umin, du);
     umax = std::max(umax, du);
@@ -187,6 +249,7 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   quad.scale.x = quad.scale.y = quad.scale.z = 1.0;
   quad.color = colourOf(Label::Plane, kPlaneAlpha);
   // Both windings: rviz culls and darkens back faces, and the patch is seen from either side.
+  quad.points.reserve(12);
   for (const auto* corner : {&a, &b, &d, &a, &d, &e, &a, &d, &b, &a, &e, &d})
     quad.points.push_back(toPoint(*corner));
   out.markers.push_back(std::move(quad));
@@ -198,16 +261,20 @@ void addPlane(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts
   arrow.scale.y = 2.0 * kNormalShaft;  // head diameter
   arrow.scale.z = 3.0 * kNormalShaft;  // head length
   arrow.color = colourOf(Label::Plane, 1.0f);
+  arrow.points.reserve(2);
   arrow.points.push_back(toPoint(c));
   arrow.points.push_back(toPoint(c + length * n));
   out.markers.push_back(std::move(arrow));
 }
 
-void addEdge(const PrimitiveInfo& prim, std::vector<Eigen::Vector3f>& pts,
-             const std_msgs::Header& header, visualization_msgs::MarkerArray& out)
+void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Header& header,
+             visualization_msgs::MarkerArray& out)
 {
-  if (pts.size() < 2)
+  if (chain.size < 2)
     return;
+  std::vector<Eigen::Vector3f> pts(chain.size);
+  for (std::size_t k = 0; k < chain.size; ++k)
+    pts[k] = chain[k];
   // Grid order is ring-major, not along the edge; ordering by position on the principal axis
   // gives one clean stroke for both vertical (across rings) and along-ring chains.
   Eigen::Vector3f axis = prim.axis;
@@ -220,20 +287,21 @@ void addEdge(const PrimitiveInfo& prim, std::vector<Eigen::Vector3f>& pts,
   auto line = baseMarker(header, kEdgeNs, prim, visualization_msgs::Marker::LINE_STRIP);
   line.scale.x = kEdgeLineWidth;
   line.color = colourOf(Label::Edge, 1.0f);
+  line.points.reserve(pts.size());
   for (const auto& p : pts)
     line.points.push_back(toPoint(p));
   out.markers.push_back(std::move(line));
 }
 
-void addCluster(const PrimitiveInfo& prim, const std::vector<Eigen::Vector3f>& pts,
-                const std_msgs::Header& header, const char* ns, double diameter,
-                visualization_msgs::MarkerArray& out)
+void addCluster(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header, const char* ns,
+                double diameter, visualization_msgs::MarkerArray& out)
 {
   auto spheres = baseMarker(header, ns, prim, visualization_msgs::Marker::SPHERE_LIST);
   spheres.scale.x = spheres.scale.y = spheres.scale.z = diameter;
   spheres.color = colourOf(prim.label, 1.0f);
-  for (const auto& p : pts)
-    spheres.points.push_back(toPoint(p));
+  spheres.points.reserve(pts.size);
+  for (std::size_t k = 0; k < pts.size; ++k)
+    spheres.points.push_back(toPoint(pts[k]));
   out.markers.push_back(std::move(spheres));
 }
 
@@ -250,11 +318,11 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   clear.action = visualization_msgs::Marker::DELETEALL;
   out->markers.push_back(std::move(clear));
 
-  std::vector<Eigen::Vector3f> pts;
+  Points pts;
   for (const PrimitiveInfo& prim : prims.primitives)
   {
     pointsOf(prims, prim, cloud, pts);
-    if (pts.empty())
+    if (pts.size == 0)
       continue;
     switch (prim.label)
     {
