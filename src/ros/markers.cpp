@@ -91,16 +91,27 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
   };
   if (float32 && flat)
   {
-    // float32 (every driver) read inline: readScalar is a call and a switch per coordinate
+    // float32 (every driver) read inline: readScalar is a call and a switch per coordinate.
+    // One bound per point: i < size and i * step + step <= data_size together.
+    const std::size_t limit = step == 0 ? size : std::min(size, data_size / step);
     const std::uint8_t* const px = data + cloud.x.offset;
     const std::uint8_t* const py = data + cloud.y.offset;
     const std::uint8_t* const pz = data + cloud.z.offset;
     for (std::size_t k = prim.first; k < end; ++k)
     {
-      const std::size_t off = static_cast<std::size_t>(idx[k]) * step;
-      if (idx[k] >= size || off + step > data_size)
+      const std::size_t i = idx[k];
+      if (i >= limit)
         return;
-      store(readFloat32(px + off), readFloat32(py + off), readFloat32(pz + off));
+      const std::size_t off = i * step;
+      const float x = readFloat32(px + off), y = readFloat32(py + off), z = readFloat32(pz + off);
+      // x - x is +0 for a finite x and NaN otherwise: one test for the three coordinates.
+      if ((x - x) + (y - y) + (z - z) == 0.0f)
+      {
+        xs[m] = x;
+        ys[m] = y;
+        zs[m] = z;
+        ++m;
+      }
     }
   }
   else
@@ -124,10 +135,12 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
   pts.size = m;
 }
 
-visualization_msgs::Marker baseMarker(const std_msgs::Header& header, const char* ns,
-                                      const PrimitiveInfo& prim, std::int32_t type)
+/// Appends a marker of `prim` to `out` and returns it for the caller to fill in. Built in place:
+/// a local marker moved into the array cost a construction, a move and a destruction per marker.
+visualization_msgs::Marker& addMarker(visualization_msgs::MarkerArray& out, const std_msgs::Header& header,
+                                      const char* ns, const PrimitiveInfo& prim, std::int32_t type)
 {
-  visualization_msgs::Marker m;
+  visualization_msgs::Marker& m = out.markers.emplace_back();
   m.header = header;
   m.ns = ns;
   m.id = static_cast<std::int32_t>(prim.id);
@@ -245,18 +258,17 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   const Eigen::Vector3f a = c + umin * u + vmin * v, b = c + umax * u + vmin * v,
                         d = c + umax * u + vmax * v, e = c + umin * u + vmax * v;
 
-  auto quad = baseMarker(header, kPlaneNs, prim, visualization_msgs::Marker::TRIANGLE_LIST);
+  auto& quad = addMarker(out, header, kPlaneNs, prim, visualization_msgs::Marker::TRIANGLE_LIST);
   quad.scale.x = quad.scale.y = quad.scale.z = 1.0;
   quad.color = colourOf(Label::Plane, kPlaneAlpha);
   // Both windings: rviz culls and darkens back faces, and the patch is seen from either side.
   quad.points.reserve(12);
   for (const auto* corner : {&a, &b, &d, &a, &d, &e, &a, &d, &b, &a, &e, &d})
     quad.points.push_back(toPoint(*corner));
-  out.markers.push_back(std::move(quad));
 
   const float size = std::max(umax - umin, vmax - vmin);
   const float length = std::clamp(0.5f * size, kNormalMinLength, kNormalMaxLength);
-  auto arrow = baseMarker(header, kNormalNs, prim, visualization_msgs::Marker::ARROW);
+  auto& arrow = addMarker(out, header, kNormalNs, prim, visualization_msgs::Marker::ARROW);
   arrow.scale.x = kNormalShaft;        // shaft diameter
   arrow.scale.y = 2.0 * kNormalShaft;  // head diameter
   arrow.scale.z = 3.0 * kNormalShaft;  // head length
@@ -264,7 +276,6 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   arrow.points.reserve(2);
   arrow.points.push_back(toPoint(c));
   arrow.points.push_back(toPoint(c + length * n));
-  out.markers.push_back(std::move(arrow));
 }
 
 void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Header& header,
@@ -284,25 +295,23 @@ void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Hea
   std::sort(pts.begin(), pts.end(), [&](const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
     return (p - c).dot(axis) < (q - c).dot(axis);
   });
-  auto line = baseMarker(header, kEdgeNs, prim, visualization_msgs::Marker::LINE_STRIP);
+  auto& line = addMarker(out, header, kEdgeNs, prim, visualization_msgs::Marker::LINE_STRIP);
   line.scale.x = kEdgeLineWidth;
   line.color = colourOf(Label::Edge, 1.0f);
   line.points.reserve(pts.size());
   for (const auto& p : pts)
     line.points.push_back(toPoint(p));
-  out.markers.push_back(std::move(line));
 }
 
 void addCluster(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header, const char* ns,
                 double diameter, visualization_msgs::MarkerArray& out)
 {
-  auto spheres = baseMarker(header, ns, prim, visualization_msgs::Marker::SPHERE_LIST);
+  auto& spheres = addMarker(out, header, ns, prim, visualization_msgs::Marker::SPHERE_LIST);
   spheres.scale.x = spheres.scale.y = spheres.scale.z = diameter;
   spheres.color = colourOf(prim.label, 1.0f);
   spheres.points.reserve(pts.size);
   for (std::size_t k = 0; k < pts.size; ++k)
     spheres.points.push_back(toPoint(pts[k]));
-  out.markers.push_back(std::move(spheres));
 }
 
 }  // namespace
@@ -313,10 +322,9 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
 {
   auto out = boost::make_shared<visualization_msgs::MarkerArray>();
   out->markers.reserve(2 * prims.primitives.size() + 1);
-  visualization_msgs::Marker clear;
+  visualization_msgs::Marker& clear = out->markers.emplace_back();
   clear.header = header;
   clear.action = visualization_msgs::Marker::DELETEALL;
-  out->markers.push_back(std::move(clear));
 
   Points pts;
   for (const PrimitiveInfo& prim : prims.primitives)
