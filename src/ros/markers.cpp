@@ -78,11 +78,11 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
   float* const zs = pts.z.data();
   std::size_t m = 0;
   const std::uint32_t* const idx = prims.indices.data();
-  const auto finite = [](float x, float y, float z) {
-    return std::isfinite(x) && std::isfinite(y) && std::isfinite(z);  // Eigen's allFinite computes p - p
-  };
+  // Keeps a point when its three coordinates are finite. x - x is +0 for a finite x and NaN
+  // otherwise: one test for the three (three isfinite tests were a quarter of the gather's
+  // instructions; Eigen's allFinite does the same on a temporary vector, slower still).
   const auto store = [&](float x, float y, float z) {
-    if (!finite(x, y, z))
+    if ((x - x) + (y - y) + (z - z) != 0.0f)
       return;
     xs[m] = x;
     ys[m] = y;
@@ -103,15 +103,7 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
       if (i >= limit)
         return;
       const std::size_t off = i * step;
-      const float x = readFloat32(px + off), y = readFloat32(py + off), z = readFloat32(pz + off);
-      // x - x is +0 for a finite x and NaN otherwise: one test for the three coordinates.
-      if ((x - x) + (y - y) + (z - z) == 0.0f)
-      {
-        xs[m] = x;
-        ys[m] = y;
-        zs[m] = z;
-        ++m;
-      }
+      store(readFloat32(px + off), readFloat32(py + off), readFloat32(pz + off));
     }
   }
   else
