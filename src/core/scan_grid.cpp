@@ -46,6 +46,20 @@ RC_SIMD_CLONES void gatherXyz(const std::uint8_t* __restrict data, std::size_t m
   }
 }
 
+// Links along a ring (b, e): one test per sample against its predecessor, in loops of their own
+// that the compiler vectorizes (through the grid's vectors and with the organized / unorganized
+// choice inside, it went one byte at a time).
+RC_SIMD_CLONES void linkAzimuths(std::size_t b, std::size_t e, const float* __restrict az, float max_step,
+                                 std::uint8_t* __restrict linked)
+{
+  for (std::size_t p = b + 1; p < e; ++p) linked[p] = az[p] - az[p - 1] <= max_step ? 1 : 0;
+}
+RC_SIMD_CLONES void linkColumns(std::size_t b, std::size_t e, const std::uint32_t* __restrict column,
+                                std::uint32_t max_cols, std::uint8_t* __restrict linked)
+{
+  for (std::size_t p = b + 1; p < e; ++p) linked[p] = column[p] - column[p - 1] <= max_cols ? 1 : 0;
+}
+
 }  // namespace
 
 int ScanGrid::ringOf(std::uint32_t pos) const
@@ -305,20 +319,23 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
 void ScanGridBuilder::linkRings(const Params& params, ScanGrid& grid)
 {
   const std::size_t m = grid.size();
-  grid.linked.assign(m, 0);
+  grid.linked.resize(m);  // every entry is written below: each ring's first by its seam test
   grid.ring_closed.assign(static_cast<std::size_t>(grid.num_rings), 0);
   const float max_step = (static_cast<float>(params.max_gap_samples) + 1.5f) * grid.azimuth_resolution;
   const std::uint32_t max_cols = static_cast<std::uint32_t>(params.max_gap_samples) + 1;
+  std::uint8_t* const linked = grid.linked.data();
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
-    if (e - b < 2) continue;
-    for (std::uint32_t p = b + 1; p < e; ++p)
+    if (e - b < 2)
     {
-      const bool ok = grid.organized ? column_[p] - column_[p - 1] <= max_cols
-                                     : grid.azimuth[p] - grid.azimuth[p - 1] <= max_step;
-      grid.linked[p] = ok ? 1 : 0;
+      if (e > b) linked[b] = 0;
+      continue;
     }
+    if (grid.organized)
+      linkColumns(b, e, column_.data(), max_cols, linked);
+    else
+      linkAzimuths(b, e, grid.azimuth.data(), max_step, linked);
     // The seam: the last sample connects to the first when the ring covers the full circle.
     bool closed;
     if (grid.organized)
@@ -333,16 +350,16 @@ void ScanGridBuilder::linkRings(const Params& params, ScanGrid& grid)
     }
     closed = closed && e - b >= 3;
     grid.ring_closed[static_cast<std::size_t>(n)] = closed ? 1 : 0;
-    grid.linked[b] = closed ? 1 : 0;
+    linked[b] = closed ? 1 : 0;
   }
 }
 
 void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
 {
   const std::size_t m = grid.size();
-  grid.up.assign(m, -1);
   if (grid.organized)
   {
+    grid.up.assign(m, -1);
     const std::size_t width = grid.num_input / static_cast<std::size_t>(grid.num_rings);
     for (std::size_t p = 0; p < m; ++p)
     {
@@ -351,6 +368,9 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
     }
     return;
   }
+  // Every position of a ring followed by a non-empty one is written below; only the others are
+  // filled with -1 (a fill of all of them first wrote every entry twice).
+  grid.up.resize(m);
   // Two sorted sequences: walk them together and take the nearest azimuth (circularly), the
   // first of equals in the order q, q + 1, last. Branch-free choice: which candidate wins is a
   // coin toss per point. |wrapPi(d)| for |d| < 2 pi is |d| or 2 pi - |d|, the same float ops.
@@ -364,7 +384,11 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     const std::uint32_t ub = e, ue = grid.ring_begin[static_cast<std::size_t>(n) + 2];
-    if (ub == ue) continue;
+    if (ub == ue)
+    {
+      std::fill(up + b, up + e, -1);
+      continue;
+    }
     std::uint32_t q = ub;
     const float last = az[ue - 1];
     for (std::uint32_t p = b; p < e; ++p)
@@ -379,6 +403,8 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
       up[p] = static_cast<std::int32_t>(best);
     }
   }
+  if (grid.num_rings > 0)  // the top ring has none above it
+    std::fill(up + grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1], up + m, -1);
 }
 
 }  // namespace ring_curvature
