@@ -80,8 +80,9 @@ private:
   {
     std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
     float drop = -3.14159265358979f, rise = 3.14159265358979f, prev = 0.0f;
-    float az1 = 0.0f, az2 = 0.0f;
-    double r1 = -1.0, r2 = -1.0;  // no valid range is negative: nothing matches before two points
+    std::uint32_t az1 = 0, az2 = 0;  // azimuth keys (ring_sort.cpp)
+    // range bits: those of -1.0 at first, and no valid range is negative: nothing matches before two points
+    std::uint64_t r1 = 0xBFF0000000000000u, r2 = 0xBFF0000000000000u;
     std::uint32_t i1 = 0, i2 = 0;
   };
   /// A point identical (azimuth and range) to an earlier one of its ring, kept off the sort.

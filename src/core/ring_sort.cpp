@@ -4,6 +4,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace ring_curvature
 {
@@ -13,13 +14,10 @@ namespace
 constexpr float kPi = 3.14159265358979f;
 constexpr float kTwoPi = 6.28318530717959f;
 
-// The azimuth's float bits mapped to an unsigned key of the same order (a -0 azimuth is made +0
+// The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0 azimuth is made +0
 // first, so equal floats give equal keys), with the input index below: one 64-bit comparison is
 // the order (azimuth, input index) exactly, and the sorts move one register-sized value.
-inline std::uint64_t sortKey(float azimuth, std::uint32_t i)
-{
-  return (static_cast<std::uint64_t>(detail::orderedKey(azimuth + 0.0f)) << 32) | i;
-}
+inline std::uint32_t azimuthKey(float azimuth) { return detail::orderedKey(azimuth + 0.0f); }
 inline float keyAzimuth(std::uint64_t key)
 {
   const auto k = static_cast<std::uint32_t>(key >> 32);
@@ -67,11 +65,16 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     const std::int32_t r = ring_of_[i];
     if (r < 0) continue;
     const float az = paz_[i];
+    const std::uint32_t az_key = azimuthKey(az);
     RingOrder& o = order[r];
     if (fold_identical)
     {
-      const double range = prange_[i];
-      const bool same1 = (az == o.az1) & (range == o.r1), same2 = (az == o.az2) & (range == o.r2);
+      // Compared as bits, in integer registers: for these values that is the float comparison
+      // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
+      // finite, and -1, the start value, matches none), without ucomis / setnp pairs.
+      std::uint64_t range;
+      std::memcpy(&range, &prange_[i], sizeof range);
+      const bool same1 = (az_key == o.az1) & (range == o.r1), same2 = (az_key == o.az2) & (range == o.r2);
       if (same1 | same2)
       {
         followers[num_followers++] = {static_cast<std::uint32_t>(i), same1 ? o.i1 : o.i2};
@@ -80,7 +83,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
       o.az2 = o.az1;
       o.r2 = o.r1;
       o.i2 = o.i1;
-      o.az1 = az;
+      o.az1 = az_key;
       o.r1 = range;
       o.i1 = static_cast<std::uint32_t>(i);
     }
@@ -101,7 +104,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
         o.wrap_bwd = j;
       }
     }
-    unsorted[next[r]++] = sortKey(az, static_cast<std::uint32_t>(i));
+    unsorted[next[r]++] = (static_cast<std::uint64_t>(az_key) << 32) | static_cast<std::uint32_t>(i);
   }
 
   num_followers_ = num_followers;
