@@ -74,14 +74,12 @@ public:
 private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
-  /// How a ring arrived, in firing order: steps down in azimuth, and its largest drop and rise;
-  /// and its last two points kept (azimuth, range, input index) to fold identical returns.
-  struct RingOrder
+  /// The last two points kept of a ring as they came (azimuth key, range bits, input index),
+  /// to fold identical returns (ring_sort.cpp).
+  struct RingFold
   {
-    std::uint32_t down = 0, wrap_fwd = 0, wrap_bwd = 0;
-    float drop = -3.14159265358979f, rise = 3.14159265358979f, prev = 0.0f;
-    std::uint32_t az1 = 0, az2 = 0;  // azimuth keys (ring_sort.cpp)
-    // range bits: those of -1.0 at first, and no valid range is negative: nothing matches before two points
+    std::uint32_t az1 = 0, az2 = 0;
+    // the bits of -1.0 at first: no valid range is negative, so nothing matches before two points
     std::uint64_t r1 = 0xBFF0000000000000u, r2 = 0xBFF0000000000000u;
     std::uint32_t i1 = 0, i2 = 0;
   };
@@ -92,7 +90,7 @@ private:
   };
   void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
-  void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k, const RingOrder& order);
+  void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);
   void removeDuplicates(const Params& params, ScanGrid& grid);
@@ -109,7 +107,9 @@ private:
   std::vector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
   std::vector<float> sorted_az_;          // and its azimuth
   std::vector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
-  std::vector<RingOrder> ring_order_;
+  std::vector<RingFold> ring_fold_;
+  std::vector<float> steps_;        // one ring's azimuth steps in firing order (sortRing)
+  std::vector<std::uint8_t> wide_;  // and where they go beyond +-pi
   std::vector<Follower> followers_;  // in input order; the first num_followers_ are this frame's
   std::size_t num_followers_ = 0;
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort

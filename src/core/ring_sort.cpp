@@ -3,6 +3,8 @@
 // Identical dual returns are folded on the way and given their twin's verdict afterwards.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "simd_clones.hpp"
+
 #include <algorithm>
 #include <cstring>
 
@@ -24,6 +26,22 @@ inline float keyAzimuth(std::uint64_t key)
   return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
 }
 inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
+
+// The azimuth steps of a ring's keys in their order, step[j] = az[j] - az[j - 1] (j >= 1), a flag
+// where a step goes beyond -pi or pi, and how many steps go down.
+RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, std::size_t k, float* __restrict step,
+                                          std::uint8_t* __restrict wide)
+{
+  std::uint32_t down = 0;
+  for (std::size_t j = 1; j < k; ++j)
+  {
+    const float d = keyAzimuth(src[j]) - keyAzimuth(src[j - 1]);
+    step[j] = d;
+    wide[j] = (d < -kPi) | (d > kPi) ? 1 : 0;
+    down += d < 0.0f ? 1u : 0u;
+  }
+  return down;
+}
 }  // namespace
 
 void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
@@ -41,10 +59,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   bin_start_.assign(grid.ring_begin.begin(), grid.ring_begin.end());
   std::uint32_t* const next = bin_start_.data();
   std::uint64_t* const unsorted = keys_tmp_.data();
-  //    The same pass follows each ring in firing order for sortRing: how often it steps down
-  //    in azimuth, and where its largest drop and rise are (the seam, read forwards or
-  //    backwards).
-  //    It also folds identical returns. Dual-return drivers send both returns of a firing,
+  //    The same pass folds identical returns. Dual-return drivers send both returns of a firing,
   //    identical where the beam met one surface (half the points of a dual-return VLP-16
   //    frame), one or two places apart in the ring's sequence. Such a point (same azimuth and
   //    range as one of the ring's last two kept points) stays off the sort, and
@@ -53,56 +68,43 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    in the same firing (same azimuth), never a representative, with the same range, hence
   //    the same verdict; and the spacings measureResolution keeps do not change (it drops the
   //    zero ones). It needs same_firing > 0 (`fold_identical`).
-  ring_order_.assign(R, RingOrder{});
-  RingOrder* const order = ring_order_.data();
+  //    (How each ring arrived, which sortRing needs, is read afterwards from its kept keys,
+  //    which are in firing order: in this loop, its state went through memory at every point.)
+  ring_fold_.assign(R, RingFold{});
+  RingFold* const fold = ring_fold_.data();
   if (followers_.size() < n) followers_.resize(n);  // only grows: no fill per frame
   Follower* const followers = followers_.data();
   std::size_t num_followers = 0;
   unfolded_largest_ = 0;
   for (std::size_t r = 0; r < R; ++r) unfolded_largest_ = std::max(unfolded_largest_, ring_count_[r + 1]);
+  const std::int32_t* const ring_of = ring_of_.data();
+  const float* const paz = paz_.data();
+  const double* const prange = prange_.data();
   for (std::size_t i = 0; i < n; ++i)
   {
-    const std::int32_t r = ring_of_[i];
+    const std::int32_t r = ring_of[i];
     if (r < 0) continue;
-    const float az = paz_[i];
-    const std::uint32_t az_key = azimuthKey(az);
-    RingOrder& o = order[r];
+    const std::uint32_t az_key = azimuthKey(paz[i]);
     if (fold_identical)
     {
       // Compared as bits, in integer registers: for these values that is the float comparison
       // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
       // finite, and -1, the start value, matches none), without ucomis / setnp pairs.
+      RingFold& f = fold[r];
       std::uint64_t range;
-      std::memcpy(&range, &prange_[i], sizeof range);
-      const bool same1 = (az_key == o.az1) & (range == o.r1), same2 = (az_key == o.az2) & (range == o.r2);
+      std::memcpy(&range, &prange[i], sizeof range);
+      const bool same1 = (az_key == f.az1) & (range == f.r1), same2 = (az_key == f.az2) & (range == f.r2);
       if (same1 | same2)
       {
-        followers[num_followers++] = {static_cast<std::uint32_t>(i), same1 ? o.i1 : o.i2};
+        followers[num_followers++] = {static_cast<std::uint32_t>(i), same1 ? f.i1 : f.i2};
         continue;
       }
-      o.az2 = o.az1;
-      o.r2 = o.r1;
-      o.i2 = o.i1;
-      o.az1 = az_key;
-      o.r1 = range;
-      o.i1 = static_cast<std::uint32_t>(i);
-    }
-    const std::uint32_t j = next[r] - grid.ring_begin[static_cast<std::size_t>(r)];  // position in the ring
-    const float d = az - o.prev;
-    o.prev = az;
-    if (j > 0)
-    {
-      o.down += d < 0.0f ? 1u : 0u;
-      if (d < o.drop)
-      {
-        o.drop = d;
-        o.wrap_fwd = j;
-      }
-      if (d > o.rise)
-      {
-        o.rise = d;
-        o.wrap_bwd = j;
-      }
+      f.az2 = f.az1;
+      f.r2 = f.r1;
+      f.i2 = f.i1;
+      f.az1 = az_key;
+      f.r1 = range;
+      f.i1 = static_cast<std::uint32_t>(i);
     }
     unsorted[next[r]++] = (static_cast<std::uint64_t>(az_key) << 32) | static_cast<std::uint32_t>(i);
   }
@@ -119,7 +121,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   {
     const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];
     grid.ring_begin[r] = kept;
-    sortRing(unsorted + b, keys_.data() + kept, k, ring_order_[r]);
+    sortRing(unsorted + b, keys_.data() + kept, k);
     kept += k;
   }
   grid.ring_begin[R] = kept;
@@ -133,12 +135,47 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   }
 }
 
-void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k, const RingOrder& o)
+void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
 {
   if (k < 2)
   {
     std::copy(src, src + k, dst);
     return;
+  }
+  // How the ring arrived, in firing order: how often it steps down in azimuth, and where its
+  // largest drop and rise are (the first of equals; only steps beyond -pi / pi count). The
+  // steps and the count in a loop that vectorizes; the few steps beyond +-pi (the seam, once
+  // or twice a ring) are then found eight flags at a time, and compared in order.
+  if (steps_.size() < k) steps_.resize(k);  // only grows
+  if (wide_.size() < k) wide_.resize(k);
+  const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
+  std::uint32_t wrap_fwd = 0, wrap_bwd = 0;
+  {
+    float drop = -kPi, rise = kPi;
+    const auto visit = [&](std::uint32_t j) {
+      const float d = steps_[j];
+      if (d < drop)
+      {
+        drop = d;
+        wrap_fwd = j;
+      }
+      if (d > rise)
+      {
+        rise = d;
+        wrap_bwd = j;
+      }
+    };
+    std::uint32_t j = 1;
+    for (; j + 8 <= k; j += 8)
+    {
+      std::uint64_t any;
+      std::memcpy(&any, wide_.data() + j, sizeof any);
+      if (any == 0) continue;
+      for (std::uint32_t t = j; t < j + 8; ++t)
+        if (wide_[t]) visit(t);
+    }
+    for (; j < k; ++j)
+      if (wide_[j]) visit(j);
   }
   // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
   // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
@@ -146,10 +183,9 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
   // ring is nearly sorted and an insertion sort finishes it in about linear time; a move budget
   // hands anything else to the bucket sort below, so no frame goes quadratic.
   {
-    // The seam both ways round (`o`, from the scatter): a step down by more than pi read
-    // forwards is a step up by more than pi read backwards. (Any choice of seam gives the same
-    // final order; it only decides how much the insertion sort has to move.)
-    const std::uint32_t down = o.down, wrap_fwd = o.wrap_fwd, wrap_bwd = o.wrap_bwd;
+    // The seam both ways round: a step down by more than pi read forwards is a step up by more
+    // than pi read backwards. (Any choice of seam gives the same final order; it only decides
+    // how much the insertion sort has to move.)
     const std::size_t budget = 8 * static_cast<std::size_t>(k);
     std::size_t moves = 0;
     std::uint32_t j = 0;  // keys placed so far
