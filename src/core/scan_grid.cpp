@@ -267,11 +267,48 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     grid.azimuth_resolution = kTwoPi / static_cast<float>(largest);
     return;
   }
-  // The element at index n / 2, as nth_element would give, by the classifier's radix selection
-  // (nth_element over every spacing of the frame was 4 % of a frame): floor(q (n - 1)) = n / 2.
-  const std::size_t n = tmp_f_.size();
-  const double q = n > 1 ? (static_cast<double>(n / 2) + 0.5) / static_cast<double>(n - 1) : 0.0;
-  grid.azimuth_resolution = selectQuantile(tmp_f_.data(), n, q);
+  // The element at index n / 2, as nth_element would give.
+  grid.azimuth_resolution = medianSpacing(tmp_f_.data(), tmp_f_.size());
+}
+
+float ScanGridBuilder::medianSpacing(float* v, std::size_t n)
+{
+  // The element of rank k = n / 2 by the classifier's radix selection (nth_element over every
+  // spacing of the frame was 4 % of a frame): floor(q (n - 1)) = r selects rank r.
+  const auto select = [](float* c, std::size_t m, std::size_t r) {
+    const double q = m > 1 ? (static_cast<double>(r) + 0.5) / static_cast<double>(m - 1) : 0.0;
+    return selectQuantile(c, m, q);
+  };
+  const std::size_t k = n / 2;
+  constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
+  if (n < 8 * kSample) return select(v, n, k);
+  // Most values are about the same spacing, and the radix selection then moves nearly all of
+  // them at every digit. So first a bracket [lo, hi] around the median from an even sample,
+  // then one pass counts the values below lo and copies out those inside, and the selection
+  // runs on those few. The result is the same element: if the bracket misses rank k (it
+  // holds it with overwhelming odds), the selection runs on all values as before.
+  float sample[kSample];
+  const std::size_t stride = n / kSample;
+  for (std::size_t j = 0; j < kSample; ++j) sample[j] = v[j * stride];
+  std::nth_element(sample, sample + (kSample / 2 - kSpread), sample + kSample);
+  const float lo = sample[kSample / 2 - kSpread];
+  std::nth_element(sample + (kSample / 2 - kSpread), sample + (kSample / 2 + kSpread), sample + kSample);
+  const float hi = sample[kSample / 2 + kSpread];
+  if (inside_.size() < n + 1) inside_.resize(n + 1);  // only grows
+  float* const in = inside_.data();
+  // The spacings are positive, so their bits order like them: one unsigned comparison tells
+  // inside from outside.
+  const std::uint32_t lo_bits = detail::floatBits(lo), span = detail::floatBits(hi) - lo_bits;
+  std::size_t below = 0, m = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint32_t u = detail::floatBits(v[i]);
+    below += u < lo_bits ? 1 : 0;
+    in[m] = v[i];  // overwritten by the next one unless this one is inside
+    m += u - lo_bits <= span ? 1 : 0;
+  }
+  if (below <= k && k < below + m) return select(in, m, k - below);
+  return select(v, n, k);
 }
 
 void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
