@@ -46,6 +46,19 @@ RC_SIMD_CLONES void gatherXyz(const std::uint8_t* __restrict data, std::size_t m
   }
 }
 
+// The spacings |wrapPi(az[p] - az[p - 1])| of a ring (b, e) to out[0, e - b - 1); organized
+// clouds per column between the two samples.
+RC_SIMD_CLONES void azimuthSpacings(std::size_t b, std::size_t e, const float* __restrict az, float* __restrict out)
+{
+  for (std::size_t p = b + 1; p < e; ++p) out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1]));
+}
+RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __restrict az,
+                                   const std::uint32_t* __restrict column, float* __restrict out)
+{
+  for (std::size_t p = b + 1; p < e; ++p)
+    out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(column[p] - column[p - 1]);
+}
+
 // Links along a ring (b, e): one test per sample against its predecessor, in loops of their own
 // that the compiler vectorizes (through the grid's vectors and with the organized / unorganized
 // choice inside, it went one byte at a time).
@@ -249,14 +262,16 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     largest = std::max(largest, e - b);
+    if (e - b < 2) continue;
+    // the spacings in place first, in a loop that vectorizes, then the compaction
+    if (grid.organized)
+      columnSpacings(b, e, az, column_.data(), kept + count);
+    else
+      azimuthSpacings(b, e, az, kept + count);
+    const std::size_t first = count;
     for (std::uint32_t p = b + 1; p < e; ++p)
     {
-      float d = std::fabs(wrapPi(az[p] - az[p - 1]));
-      if (grid.organized)
-      {
-        const std::uint32_t dc = column_[p] - column_[p - 1];
-        d /= static_cast<float>(dc);
-      }
+      const float d = kept[first + (p - b - 1)];  // (count never passes the reads)
       kept[count] = d;
       count += (d > 1e-5f) & (d < 5.0f * kDeg) ? 1 : 0;
     }
