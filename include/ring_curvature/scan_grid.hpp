@@ -103,6 +103,7 @@ private:
   std::vector<std::uint32_t> ring_count_;  // [0]: invalid points, [r + 1]: valid points of ring r
   std::vector<double> prange_;
   std::vector<float> paz_;
+  UninitializedVector<float> px_, py_, pz_;  // organized float32 clouds: each point's coordinates
   // scratch, per ring / bin
   std::vector<std::uint32_t> counts_, bin_start_;
   std::vector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position

@@ -59,6 +59,23 @@ RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __
     out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(column[p] - column[p - 1]);
 }
 
+// The same from the input pass's float copies (organized clouds: grid order is input order, so
+// these reads stream).
+RC_SIMD_CLONES void gatherCompact(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
+                                  const float* __restrict py, const float* __restrict pz,
+                                  const double* __restrict prange, double* __restrict gx, double* __restrict gy,
+                                  double* __restrict gz, double* __restrict gr)
+{
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    const std::uint32_t i = index[p];
+    gx[p] = px[i];
+    gy[p] = py[i];
+    gz[p] = pz[i];
+    gr[p] = prange[i];
+  }
+}
+
 // Links along a ring (b, e): one test per sample against its predecessor, in loops of their own
 // that the compiler vectorizes (through the grid's vectors and with the organized / unorganized
 // choice inside, it went one byte at a time).
@@ -141,8 +158,11 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   const std::uint32_t* const index = grid.index.data();
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  // (an organized cloud with dense rows is one run of records too: index * step finds them)
-  if (fast && (view.height == 1 || view.row_step == static_cast<std::size_t>(view.width) * view.point_step))
+  if (fast && view.organized())
+  {
+    gatherCompact(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);  // see readPoints
+  }
+  else if (fast && view.height == 1)
   {
     gatherXyz(view.data, m, view.point_step, static_cast<std::size_t>(view.x.offset),
               static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset), index,
