@@ -80,24 +80,24 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   const std::int32_t* const ring_of = ring_of_.data();
   const float* const paz = paz_.data();
   const double* const prange = prange_.data();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::int32_t r = ring_of[i];
-    if (r < 0) continue;
+  // One point into its ring: `f` and `nx` are the ring's fold state and next slot.
+  // (Captures by value but the count: through references, the compiler reloaded them after
+  // every store.)
+  const auto place = [paz, prange, followers, unsorted, fold_identical, &num_followers](std::size_t i, RingFold& f,
+                                                                                      std::uint32_t& nx) {
     const std::uint32_t az_key = azimuthKey(paz[i]);
     if (fold_identical)
     {
       // Compared as bits, in integer registers: for these values that is the float comparison
       // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
       // finite, and -1, the start value, matches none), without ucomis / setnp pairs.
-      RingFold& f = fold[r];
       std::uint64_t range;
       std::memcpy(&range, &prange[i], sizeof range);
       const bool same1 = (az_key == f.az1) & (range == f.r1), same2 = (az_key == f.az2) & (range == f.r2);
       if (same1 | same2)
       {
         followers[num_followers++] = {static_cast<std::uint32_t>(i), same1 ? f.i1 : f.i2};
-        continue;
+        return;
       }
       f.az2 = f.az1;
       f.r2 = f.r1;
@@ -106,7 +106,48 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
       f.r1 = range;
       f.i1 = static_cast<std::uint32_t>(i);
     }
-    unsorted[next[r]++] = (static_cast<std::uint64_t>(az_key) << 32) | static_cast<std::uint32_t>(i);
+    unsorted[nx++] = (static_cast<std::uint64_t>(az_key) << 32) | static_cast<std::uint32_t>(i);
+  };
+  // Rings interleaved point by point (velodyne firing order) keep their state in memory; rings
+  // that come one after another (KITTI's, an unorganized ouster's) keep the current ring's in
+  // registers: in memory, each point's state waited on the store of the point before.
+  std::size_t changes = 0;
+  for (std::size_t i = 1; i < n; ++i) changes += ring_of[i] != ring_of[i - 1] ? 1 : 0;
+  if (changes > n / 8)
+  {
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const std::int32_t r = ring_of[i];
+      if (r >= 0) place(i, fold[r], next[r]);
+    }
+  }
+  else
+  {
+    std::int32_t cur = -1;
+    RingFold f{};
+    std::uint32_t nx = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const std::int32_t r = ring_of[i];
+      if (r < 0) continue;
+      if (r != cur)
+      {
+        if (cur >= 0)
+        {
+          fold[cur] = f;
+          next[cur] = nx;
+        }
+        cur = r;
+        f = fold[r];
+        nx = next[r];
+      }
+      place(i, f, nx);
+    }
+    if (cur >= 0)
+    {
+      fold[cur] = f;
+      next[cur] = nx;
+    }
   }
 
   num_followers_ = num_followers;
