@@ -16,6 +16,10 @@ struct FrameProcessor::Impl
   explicit Impl(const Params& p) : pipeline(p) {}
   Pipeline pipeline;
   FrameResult result;
+  // The clouds of the last frame, recycled for the next one once the subscribers have dropped
+  // them (see makeLabelledCloud): a new 0.6 MB labelled cloud a frame was allocated, zero-filled
+  // and freed again.
+  sensor_msgs::PointCloud2Ptr labelled, edges, planes;
 };
 
 FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
@@ -39,16 +43,17 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     return s;
 
   const auto t0 = std::chrono::steady_clock::now();
+  Impl& m = *impl_;
   if (select.labelled)
-    out.labelled = makeLabelledCloud(msg, r);
+    out.labelled = m.labelled = makeLabelledCloud(msg, r, std::move(m.labelled));
   if (select.primitives)
   {
     out.primitives = makePrimitiveArray(msg.header, r.primitives);
   }
   if (select.edges)
-    out.edges = makeLabelSubset(msg, r, Label::Edge, Label::Corner);
+    out.edges = m.edges = makeLabelSubset(msg, r, Label::Edge, Label::Corner, std::move(m.edges));
   if (select.planes)
-    out.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane);
+    out.planes = m.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane, std::move(m.planes));
   if (select.markers)
     out.markers = makePrimitiveMarkers(r.primitives, view, msg.header);
 

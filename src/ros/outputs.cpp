@@ -99,6 +99,24 @@ void forEachRecord(const sensor_msgs::PointCloud2& in, F f)
   }
 }
 
+// Zeroes the padding between an input record and its appended fields (0 to 3 bytes, before
+// base): a zero word ending at base, written before the record, which overwrites its own part.
+inline void padRecord(std::uint8_t* rec, std::size_t base)
+{
+  const std::uint32_t zero = 0;
+  std::memcpy(rec + base - 4, &zero, 4);
+}
+
+// A message to fill: `reuse` when nobody else holds it any more (subscribers drop a message once
+// they are done with it), else a new one. A recycled cloud keeps its buffer's capacity: no
+// allocation, and no zero fill of a buffer that is written in full anyway.
+sensor_msgs::PointCloud2Ptr recycled(sensor_msgs::PointCloud2Ptr reuse)
+{
+  if (reuse && reuse.use_count() == 1)
+    return reuse;
+  return boost::make_shared<sensor_msgs::PointCloud2>();
+}
+
 // Appended fields of one point (see makeLabelledCloud for the layout).
 template <class Copy>
 void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std::size_t base, std::size_t step,
@@ -113,13 +131,15 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
   const std::uint8_t* const label = r.label.data();
   forEachRecord(in, [&](std::size_t i, const std::uint8_t* src) {
     std::uint8_t* const rec = dst + i * step;
+    padRecord(rec, base);
     copy(rec, src);
     std::uint8_t* const app = rec + base;
     std::memcpy(app + 0, curvature + i, 4);
     std::memcpy(app + 4, smoothness + i, 4);
     std::memcpy(app + 8, discontinuity + i, 4);
     std::memcpy(app + 12, primitive + i, 4);
-    app[16] = label[i];
+    const std::uint32_t last = label[i];  // the label, then three zero padding bytes (little-endian)
+    std::memcpy(app + 16, &last, 4);
   });
 }
 
@@ -130,15 +150,17 @@ void fillUnlabelled(const sensor_msgs::PointCloud2& in, std::size_t base, std::s
 {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const std::int32_t none = -1;
+  const std::uint32_t last = 0;  // label None, then the padding
   forEachRecord(in, [&](std::size_t i, const std::uint8_t* src) {
     std::uint8_t* const rec = dst + i * step;
+    padRecord(rec, base);
     copy(rec, src);
     std::uint8_t* const app = rec + base;
     std::memcpy(app + 0, &nan, 4);
     std::memcpy(app + 4, &nan, 4);
     std::memcpy(app + 8, &nan, 4);
     std::memcpy(app + 12, &none, 4);
-    app[16] = 0;
+    std::memcpy(app + 16, &last, 4);
   });
 }
 
@@ -216,15 +238,17 @@ void copySubset(const sensor_msgs::PointCloud2& in, const std::uint8_t* label, s
 
 }  // namespace
 
-sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result)
+sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result,
+                                              sensor_msgs::PointCloud2Ptr reuse)
 {
-  auto out = boost::make_shared<sensor_msgs::PointCloud2>();
+  auto out = recycled(std::move(reuse));
   out->header = input.header;
   out->height = input.height;
   out->width = input.width;
   out->is_bigendian = false;
   out->is_dense = input.is_dense;
 
+  out->fields.clear();
   out->fields.reserve(input.fields.size() + 5);
   for (const auto& f : input.fields)
   {
@@ -243,8 +267,8 @@ sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& in
   out->row_step = out->point_step * out->width;
 
   const std::size_t n = static_cast<std::size_t>(input.width) * input.height;
-  // Zero-filled, so padding bytes are deterministic.
-  out->data.assign(n * out->point_step, 0);
+  // Every byte is written below, padding included (zeros): no fill first.
+  out->data.resize(n * out->point_step);
   // One pass: each input record, then its appended fields.
   std::uint8_t* const dst = out->data.data();
   const std::size_t step = out->point_step;
@@ -258,9 +282,9 @@ sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& in
 }
 
 sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& input, const FrameResult& result,
-                                            Label a, Label b)
+                                            Label a, Label b, sensor_msgs::PointCloud2Ptr reuse)
 {
-  auto out = boost::make_shared<sensor_msgs::PointCloud2>();
+  auto out = recycled(std::move(reuse));
   out->header = input.header;
   out->fields = input.fields;
   out->is_bigendian = false;
@@ -274,7 +298,7 @@ sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& inpu
   const std::size_t count = countLabels(label, result.label.size(), la, lb);
   out->width = static_cast<std::uint32_t>(count);
   out->row_step = out->width * out->point_step;
-  out->data.resize(count * out->point_step);
+  out->data.resize(count * out->point_step);  // every record is copied in below
   if (count > 0)
   {
     std::uint8_t* const dst = out->data.data();

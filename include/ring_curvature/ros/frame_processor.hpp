@@ -25,7 +25,8 @@ struct OutputSelection
   bool labelled = true, primitives = true, edges = true, planes = true, markers = true;
 };
 
-/// Freshly allocated messages of one frame; null where not selected.
+/// The messages of one frame; null where not selected. A cloud may be one of an earlier frame,
+/// filled again, once no one but the processor held it any more.
 struct Outputs
 {
   sensor_msgs::PointCloud2Ptr labelled;  ///< input + curvature/smoothness/discontinuity/primitive/label

@@ -18,11 +18,15 @@ constexpr const char* kAppendedFieldNames[5] = {"curvature", "smoothness", "disc
 /// 4-byte boundary after the input record; the record is padded to a multiple of 4 bytes.
 /// An input field whose name clashes with an appended one is kept, renamed `input_<name>`.
 /// Same header, width, height and point order as the input.
-sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result);
+/// `reuse`: a cloud built by an earlier call, filled again instead of allocating a new one when
+/// the caller holds the only reference left (its buffer keeps its capacity); else ignored.
+sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result,
+                                              sensor_msgs::PointCloud2Ptr reuse = {});
 
 /// New unorganized cloud in the input's layout (every field, time included) holding the input
 /// points whose label is `a` or `b`, in input order.
+/// (`reuse` as for makeLabelledCloud.)
 sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& input, const FrameResult& result,
-                                            Label a, Label b);
+                                            Label a, Label b, sensor_msgs::PointCloud2Ptr reuse = {});
 
 }  // namespace ring_curvature
