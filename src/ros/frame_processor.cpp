@@ -16,10 +16,12 @@ struct FrameProcessor::Impl
   explicit Impl(const Params& p) : pipeline(p) {}
   Pipeline pipeline;
   FrameResult result;
-  // The clouds of the last frame, recycled for the next one once the subscribers have dropped
-  // them (see makeLabelledCloud): a new 0.6 MB labelled cloud a frame was allocated, zero-filled
-  // and freed again.
+  // The messages of the last frame, recycled for the next one once the subscribers have dropped
+  // them (ros/recycle.hpp): a new 0.6 MB labelled cloud a frame was allocated, zero-filled and
+  // freed again, and the markers and primitives were a thousand small allocations.
   sensor_msgs::PointCloud2Ptr labelled, edges, planes;
+  PrimitiveArrayPtr primitives;
+  visualization_msgs::MarkerArrayPtr markers;
 };
 
 FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
@@ -48,14 +50,14 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     out.labelled = m.labelled = makeLabelledCloud(msg, r, std::move(m.labelled));
   if (select.primitives)
   {
-    out.primitives = makePrimitiveArray(msg.header, r.primitives);
+    out.primitives = m.primitives = makePrimitiveArray(msg.header, r.primitives, std::move(m.primitives));
   }
   if (select.edges)
     out.edges = m.edges = makeLabelSubset(msg, r, Label::Edge, Label::Corner, std::move(m.edges));
   if (select.planes)
     out.planes = m.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane, std::move(m.planes));
   if (select.markers)
-    out.markers = makePrimitiveMarkers(r.primitives, view, msg.header);
+    out.markers = m.markers = makePrimitiveMarkers(r.primitives, view, msg.header, std::move(m.markers));
 
   FrameSummary& f = summary_;
   f.points = r.label.size();

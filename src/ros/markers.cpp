@@ -2,6 +2,7 @@
 
 #include "ring_curvature/ros/markers.hpp"
 #include "ring_curvature/ros/geometry_conversions.hpp"
+#include "ring_curvature/ros/recycle.hpp"
 
 #include <Eigen/Geometry>
 #include <boost/make_shared.hpp>
@@ -127,12 +128,41 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
   pts.size = m;
 }
 
+/// The markers of a frame, filled in order into an array that may hold an earlier frame's: a
+/// marker already there is reset to a default one that keeps its buffers (points, namespace),
+/// so a recycled array allocates nothing for markers it had; the rest is cut off at the end.
+struct Slots
+{
+  std::vector<visualization_msgs::Marker>& markers;
+  std::size_t used = 0;
+  visualization_msgs::Marker& next()
+  {
+    if (used == markers.size())
+    {
+      ++used;
+      return markers.emplace_back();
+    }
+    visualization_msgs::Marker& m = markers[used++];
+    auto points = std::move(m.points);
+    auto ns = std::move(m.ns);
+    auto frame = std::move(m.header.frame_id);
+    m = visualization_msgs::Marker();
+    points.clear();
+    ns.clear();
+    frame.clear();
+    m.points = std::move(points);
+    m.ns = std::move(ns);
+    m.header.frame_id = std::move(frame);
+    return m;
+  }
+};
+
 /// Appends a marker of `prim` to `out` and returns it for the caller to fill in. Built in place:
 /// a local marker moved into the array cost a construction, a move and a destruction per marker.
-visualization_msgs::Marker& addMarker(visualization_msgs::MarkerArray& out, const std_msgs::Header& header,
-                                      const char* ns, const PrimitiveInfo& prim, std::int32_t type)
+visualization_msgs::Marker& addMarker(Slots& out, const std_msgs::Header& header, const char* ns,
+                                      const PrimitiveInfo& prim, std::int32_t type)
 {
-  visualization_msgs::Marker& m = out.markers.emplace_back();
+  visualization_msgs::Marker& m = out.next();
   m.header = header;
   m.ns = ns;
   m.id = static_cast<std::int32_t>(prim.id);
@@ -161,7 +191,7 @@ inline Float4 load4(const float* p)
 }
 
 void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header,
-              visualization_msgs::MarkerArray& out)
+              Slots& out)
 {
   Eigen::Vector3f n = prim.axis;
   if (!(n.squaredNorm() > 0.0f) || !n.allFinite())
@@ -270,8 +300,7 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   arrow.points.push_back(toPoint(c + length * n));
 }
 
-void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Header& header,
-             visualization_msgs::MarkerArray& out)
+void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Header& header, Slots& out)
 {
   if (chain.size < 2)
     return;
@@ -296,7 +325,7 @@ void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Hea
 }
 
 void addCluster(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header, const char* ns,
-                double diameter, visualization_msgs::MarkerArray& out)
+                double diameter, Slots& out)
 {
   auto& spheres = addMarker(out, header, ns, prim, visualization_msgs::Marker::SPHERE_LIST);
   spheres.scale.x = spheres.scale.y = spheres.scale.z = diameter;
@@ -310,11 +339,13 @@ void addCluster(const PrimitiveInfo& prim, const Points& pts, const std_msgs::He
 
 visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prims,
                                                         const PointCloudView& cloud,
-                                                        const std_msgs::Header& header)
+                                                        const std_msgs::Header& header,
+                                                        visualization_msgs::MarkerArrayPtr reuse)
 {
-  auto out = boost::make_shared<visualization_msgs::MarkerArray>();
-  out->markers.reserve(2 * prims.primitives.size() + 1);
-  visualization_msgs::Marker& clear = out->markers.emplace_back();
+  auto array = recycled(std::move(reuse));
+  array->markers.reserve(2 * prims.primitives.size() + 1);
+  Slots out{array->markers};
+  visualization_msgs::Marker& clear = out.next();
   clear.header = header;
   clear.action = visualization_msgs::Marker::DELETEALL;
 
@@ -327,22 +358,23 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
     switch (prim.label)
     {
       case Label::Plane:
-        addPlane(prim, pts, header, *out);
+        addPlane(prim, pts, header, out);
         break;
       case Label::Edge:
-        addEdge(prim, pts, header, *out);
+        addEdge(prim, pts, header, out);
         break;
       case Label::Corner:
-        addCluster(prim, pts, header, kCornerNs, kCornerSphere, *out);
+        addCluster(prim, pts, header, kCornerNs, kCornerSphere, out);
         break;
       case Label::Rough:
-        addCluster(prim, pts, header, kRoughNs, kRoughSphere, *out);
+        addCluster(prim, pts, header, kRoughNs, kRoughSphere, out);
         break;
       case Label::None:
         break;
     }
   }
-  return out;
+  array->markers.resize(out.used);  // (only ever shrinks: no default markers are added)
+  return array;
 }
 
 }  // namespace ring_curvature

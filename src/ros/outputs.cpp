@@ -2,6 +2,8 @@
 
 #include <sensor_msgs/PointField.h>
 
+#include "ring_curvature/ros/recycle.hpp"
+
 #include <boost/make_shared.hpp>
 #include <algorithm>
 #include <cstring>
@@ -105,16 +107,6 @@ inline void padRecord(std::uint8_t* rec, std::size_t base)
 {
   const std::uint32_t zero = 0;
   std::memcpy(rec + base - 4, &zero, 4);
-}
-
-// A message to fill: `reuse` when nobody else holds it any more (subscribers drop a message once
-// they are done with it), else a new one. A recycled cloud keeps its buffer's capacity: no
-// allocation, and no zero fill of a buffer that is written in full anyway.
-sensor_msgs::PointCloud2Ptr recycled(sensor_msgs::PointCloud2Ptr reuse)
-{
-  if (reuse && reuse.use_count() == 1)
-    return reuse;
-  return boost::make_shared<sensor_msgs::PointCloud2>();
 }
 
 // Appended fields of one point (see makeLabelledCloud for the layout).

@@ -1,6 +1,7 @@
 #include "ring_curvature/ros/primitive_message.hpp"
 
 #include "ring_curvature/ros/geometry_conversions.hpp"
+#include "ring_curvature/ros/recycle.hpp"
 
 #include <boost/make_shared.hpp>
 
@@ -10,10 +11,12 @@ namespace ring_curvature
 {
 
 
-PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const PrimitiveSet& set)
+PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const PrimitiveSet& set, PrimitiveArrayPtr reuse)
 {
-  auto out = boost::make_shared<PrimitiveArray>();
+  auto out = recycled(std::move(reuse));
   out->header = header;
+  // (a recycled array keeps its first primitives and their index buffers: every field of each is
+  // set below)
   out->primitives.resize(set.primitives.size());
   for (std::size_t k = 0; k < set.primitives.size(); ++k)
   {

@@ -53,8 +53,11 @@ constexpr const char* kRoughNs = "rough";
 /// the normal. Edge chains: a LINE_STRIP through the points ordered along the edge's axis.
 /// Corner clusters and rough clusters: a SPHERE_LIST of their points. Colours: kLabelPalette.
 /// Primitives whose indices fall outside `cloud` or whose points are all non-finite are skipped.
+/// `reuse`: an array built by an earlier call, filled again when the caller holds its only
+/// reference (its markers keep their buffers).
 visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prims,
                                                         const PointCloudView& cloud,
-                                                        const std_msgs::Header& header);
+                                                        const std_msgs::Header& header,
+                                                        visualization_msgs::MarkerArrayPtr reuse = {});
 
 }  // namespace ring_curvature

@@ -15,7 +15,9 @@ template <class ContainerAllocator>
 struct PrimitiveArray_;
 typedef boost::shared_ptr<PrimitiveArray_<std::allocator<void>>> PrimitiveArrayPtr;
 
-/// New PrimitiveArray with `header`, one message per primitive of `set` (indices copied).
-PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const PrimitiveSet& set);
+/// PrimitiveArray with `header`, one message per primitive of `set` (indices copied). `reuse`: an
+/// array built by an earlier call, filled again when the caller holds its only reference.
+PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const PrimitiveSet& set,
+                                     PrimitiveArrayPtr reuse = {});
 
 }  // namespace ring_curvature
