@@ -2,10 +2,12 @@
 // parameter loading (the shipped YAML must hold exactly the core's defaults).
 #include <gtest/gtest.h>
 #include <ros/package.h>
+#include <ros/serialization.h>
 
 #include <fstream>
 #include <map>
 
+#include "ring_curvature/PrimitiveArray.h"
 #include "ring_curvature/ros/cloud_adapter.hpp"
 #include "ring_curvature/ros/frame_processor.hpp"
 #include "ring_curvature/ros/param_loading.hpp"
@@ -177,6 +179,59 @@ TEST(Outputs, RingTypeAndFieldOrderDoNotChangeLabels)
     differ += get<std::uint8_t>(*a.labelled, i, *la) != get<std::uint8_t>(*b.labelled, i, *lb);
   EXPECT_EQ(0u, differ);
   EXPECT_EQ(a.primitives->primitives.size(), b.primitives->primitives.size());
+}
+
+// The bytes a message would go out with (what a subscriber in another process receives).
+template <class M>
+std::vector<std::uint8_t> wire(const M& m)
+{
+  const ros::SerializedMessage s = ros::serialization::serializeMessage(m);
+  return std::vector<std::uint8_t>(s.buf.get(), s.buf.get() + s.num_bytes);
+}
+
+void expectSameOutputs(const Outputs& a, const Outputs& b)
+{
+  EXPECT_EQ(wire(*a.labelled), wire(*b.labelled));
+  EXPECT_EQ(wire(*a.primitives), wire(*b.primitives));
+  EXPECT_EQ(wire(*a.edges), wire(*b.edges));
+  EXPECT_EQ(wire(*a.planes), wire(*b.planes));
+  EXPECT_EQ(wire(*a.markers), wire(*b.markers));
+}
+
+// The processor fills the last frame's messages again (ros/recycle.hpp), but only those no one
+// else holds: a message a subscriber kept must never change under it, and a recycled one must
+// come out exactly as a new one would.
+TEST(Outputs, RecycledOnlyWhenNoOneElseHoldsThem)
+{
+  const auto clouds = readClouds(fixture("nebula_vlp16_lastreturn_4scans.bag"), "/velodyne_points");
+  ASSERT_GE(clouds.size(), 3u);
+  FrameProcessor proc;
+  Outputs first;
+  ASSERT_TRUE(proc.process(*clouds[0], first).ok);
+  const Outputs kept = first;  // a subscriber that holds on to every message of frame 0
+  const std::vector<std::uint8_t> kept_bytes = wire(*kept.labelled), kept_markers = wire(*kept.markers);
+  first = Outputs();
+
+  Outputs second;
+  ASSERT_TRUE(proc.process(*clouds[1], second).ok);
+  EXPECT_NE(kept.labelled.get(), second.labelled.get());
+  EXPECT_NE(kept.planes.get(), second.planes.get());
+  EXPECT_NE(kept.primitives.get(), second.primitives.get());
+  EXPECT_NE(kept.markers.get(), second.markers.get());
+  EXPECT_EQ(kept_bytes, wire(*kept.labelled)) << "a held message changed";
+  EXPECT_EQ(kept_markers, wire(*kept.markers)) << "a held message changed";
+
+  // frame 1's messages are dropped by everyone: frame 2 fills them again, bytes as from new
+  const void* const labelled = second.labelled.get();
+  const void* const markers = second.markers.get();
+  second = Outputs();
+  Outputs third, fresh;
+  ASSERT_TRUE(proc.process(*clouds[2], third).ok);
+  EXPECT_EQ(labelled, third.labelled.get());
+  EXPECT_EQ(markers, third.markers.get());
+  FrameProcessor other;
+  ASSERT_TRUE(other.process(*clouds[2], fresh).ok);
+  expectSameOutputs(third, fresh);
 }
 
 TEST(Params, ShippedYamlHoldsTheCoreDefaults)
