@@ -8,6 +8,7 @@ add_library(ring_curvature_core
   src/core/cloud_view_checks.cpp
   src/core/features.cpp
   src/core/classifier.cpp
+  src/core/thresholds.cpp
   src/core/primitives.cpp
   src/core/pipeline.cpp)
 target_include_directories(ring_curvature_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})

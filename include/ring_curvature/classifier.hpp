@@ -31,8 +31,6 @@ private:
                          std::vector<Label>& labels);
   // one ring's scratch (see computeThresholds)
   std::vector<float> scratch_;
-  std::vector<std::uint16_t> bin_;
-  std::vector<std::uint8_t> flag_;
 };
 
 /// Value at quantile q of v[0..n) by O(n) selection (v is reordered). NaN when n == 0.

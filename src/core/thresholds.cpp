@@ -1,0 +1,499 @@
+// Per-ring thresholds by exact O(K) selection (never a sort): the quantiles of Algorithm 1 and the robust median + k MAD.
+#include "ring_curvature/classifier.hpp"
+#include "simd_clones.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kDegToRad = 0.0174532925f;
+constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+using detail::bitsFloat;
+using detail::floatBits;
+// Nearest rank of quantile q of n values: floor(q * (n - 1)).
+inline std::size_t rankOf(std::size_t n, double q)
+{
+  return std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+}
+
+using detail::orderedKey;
+
+// Value of rank k in v[0, n) (reordered, never overwritten).
+float selectRank(float* v, std::size_t n, std::size_t k)
+{
+  // Radix selection, most significant digit first: each pass counts the digit of the remaining
+  // candidates and moves those in the bucket that holds rank k to the front. Same element as
+  // nth_element, but without its unpredictable comparisons, which made this the second largest
+  // cost of a frame (perf). The digits start at the highest bit in which the keys differ: the
+  // values of one selection often share their sign, exponent and leading mantissa bits (the
+  // azimuth spacings of a frame agree to ~1 %), and fixed digits from bit 31 down spent whole
+  // passes over every value to learn nothing. The k-th key does not depend on the digits.
+  // Swaps (or copies out to a local buffer), never overwrites: callers reuse all n values.
+  std::size_t m = n;
+  float* c = v;
+  if (m <= 32)
+  {
+    std::nth_element(c, c + k, c + m);
+    return c[k];
+  }
+  std::uint32_t lo = 0xFFFFFFFFu, hi = 0;
+  for (std::size_t i = 0; i < m; ++i)
+  {
+    const std::uint32_t key = orderedKey(c[i]);
+    lo = std::min(lo, key);
+    hi = std::max(hi, key);
+  }
+  if (lo == hi) return c[k];  // one key: every value is the same float
+  int top = 31;               // highest bit still undecided
+  while (((lo ^ hi) >> top) == 0) --top;
+  constexpr int kDigit = 11;
+  // Two histograms, for even and odd positions: runs of equal digits (the common case) would
+  // otherwise chain every increment to the store of the one before.
+  std::uint32_t counts[1u << kDigit], counts_odd[1u << kDigit];
+  // Candidates after the first narrowing, when they fit (one past the last so that the
+  // branch-free copy below may write one slot beyond the candidates).
+  constexpr std::size_t kLocal = 4095;
+  float local[kLocal + 1];
+  while (m > 32)
+  {
+    // Digit width from the candidate count: a ring's few thousand values would otherwise spend
+    // more time clearing, scanning and merging 2 x 2048 counters than counting themselves.
+    int digit = 6;
+    while (digit < kDigit && (std::size_t{1} << (digit + 2)) <= m) ++digit;
+    const int sh = std::max(0, top + 1 - digit);
+    const std::uint32_t mask = (1u << (top + 1 - sh)) - 1u;
+    std::fill(counts, counts + mask + 1, 0u);
+    std::fill(counts_odd, counts_odd + mask + 1, 0u);
+    std::size_t i2 = 0;
+    for (; i2 + 1 < m; i2 += 2)
+    {
+      ++counts[(orderedKey(c[i2]) >> sh) & mask];
+      ++counts_odd[(orderedKey(c[i2 + 1]) >> sh) & mask];
+    }
+    if (i2 < m) ++counts[(orderedKey(c[i2]) >> sh) & mask];
+    for (std::uint32_t d = 0; d <= mask; ++d) counts[d] += counts_odd[d];
+    std::uint32_t bucket = 0;
+    std::size_t below = 0;
+    while (below + counts[bucket] <= k) below += counts[bucket++];
+    k -= below;
+    if (counts[bucket] != m && c == v && counts[bucket] <= kLocal)
+    {
+      // First narrowing of the caller's array: copy the candidates out to a local buffer
+      // instead of swapping them to the front (a load, a store and no dependence on the
+      // destination's old value per value, where a swap is two of each; ~1/5 of this function
+      // under perf). The caller's values stay where they were, untouched.
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < m; ++i)
+      {
+        const bool in = ((orderedKey(c[i]) >> sh) & mask) == bucket;
+        local[j] = c[i];  // [j] is overwritten by the next candidate unless this one is in
+        j += in ? 1 : 0;
+      }
+      c = local;
+      m = counts[bucket];
+    }
+    else if (counts[bucket] != m)  // else every candidate is in it: nothing to move
+    {
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < m; ++i)
+      {
+        // branch-free partition: [j, i) holds non-members, so swapping a non-member is harmless
+        const bool in = ((orderedKey(c[i]) >> sh) & mask) == bucket;
+        std::swap(c[i], c[j]);
+        j += in ? 1 : 0;
+      }
+      m = counts[bucket];
+    }
+    if (sh == 0) return c[k];  // every candidate left has the same key
+    top = sh - 1;
+  }
+  std::nth_element(c, c + k, c + m);
+  return c[k];
+}
+}  // namespace
+
+float selectQuantile(float* v, std::size_t n, double q)
+{
+  return n == 0 ? std::numeric_limits<float>::quiet_NaN() : selectRank(v, n, rankOf(n, q));
+}
+
+namespace
+{
+// The general path, for rings the bins below cannot order (values with the sign bit set).
+// Copies the finite values of v[b, e) to out (room for e - b); returns how many.
+std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, float* out)
+{
+  std::size_t n = 0;
+  for (std::uint32_t p = b; p < e; ++p)
+    if (std::isfinite(v[p])) out[n++] = v[p];
+  return n;
+}
+
+// median + k * 1.4826 * MAD of buf[0, n) (buf is reordered).
+float medianPlusKMad(float* buf, std::size_t n, float k)
+{
+  const float med = selectQuantile(buf, n, 0.5);
+  for (std::size_t i = 0; i < n; ++i) buf[i] = std::fabs(buf[i] - med);
+  const float mad = selectQuantile(buf, n, 0.5);
+  return med + k * kMadToSigma * mad;
+}
+
+// Ring features are non-negative (angles, variances, relative errors; NaN where undefined), and
+// the bits of a non-negative float order like the float: bits >> 20 (exponent and three mantissa
+// bits, eighths of a binade) bin a ring's values with no key transform, no min/max pass and no
+// copy. The ring is read in place; only the values of the bins that hold the wanted ranks (one
+// to three percent) are copied out for the exact selection.
+constexpr int kBinShift = 20;
+constexpr std::uint32_t kBins = 2048;        // every float with a clear sign bit
+constexpr std::uint32_t kFiniteBins = 2040;  // bins 2040..2047: +inf and NaN (exponent all ones)
+inline float lowEdge(std::uint32_t bin) { return bitsFloat(bin << kBinShift); }
+inline float highEdge(std::uint32_t bin) { return bitsFloat(((bin + 1) << kBinShift) - 1); }
+
+// One ring's counts per bin. Between rings every counter is zero: a ring clears only the bins its
+// values can fall in (+0's, [lowest, highest] and the non-finite ones), a few hundred at most
+// where a memset of the whole histogram per ring and feature cost more than its counting.
+struct BinnedRing
+{
+  float* cand;  // the wanted values (n + 8: the vector copy stores whole groups of eight)
+  std::uint32_t lowest = 0, highest = 0;  // see binRange
+  std::uint32_t count[kBins] = {};
+  std::uint32_t more[3][kBins] = {};  // tallies of positions 1, 2, 3 mod 4, merged into count
+
+  // Counts the values per bin (no sign bit set, range from binRange); returns how many are
+  // finite. Four interleaved tallies: neighbours' values often share a bin, and with one array
+  // every increment waited for the store of the one before.
+  std::size_t countBins(const float* x, std::size_t n)
+  {
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+    {
+      ++count[floatBits(x[i]) >> kBinShift];
+      ++more[0][floatBits(x[i + 1]) >> kBinShift];
+      ++more[1][floatBits(x[i + 2]) >> kBinShift];
+      ++more[2][floatBits(x[i + 3]) >> kBinShift];
+    }
+    for (; i < n; ++i) ++count[floatBits(x[i]) >> kBinShift];
+    forTouched([this](std::uint32_t b, std::uint32_t e) {
+      for (std::uint32_t j = b; j < e; ++j)  // (ranges may overlap in bin 0: merging twice adds zeros)
+      {
+        count[j] += more[0][j] + more[1][j] + more[2][j];
+        more[0][j] = more[1][j] = more[2][j] = 0;
+      }
+    });
+    for (std::uint32_t b = kFiniteBins; b < kBins; ++b) n -= count[b];
+    return n;
+  }
+  // Zeroes this ring's counts again.
+  void release()
+  {
+    forTouched([this](std::uint32_t b, std::uint32_t e) { std::fill(count + b, count + e, 0u); });
+  }
+  template <class F>
+  void forTouched(F f) const
+  {
+    f(0, 1);
+    if (lowest <= highest) f(lowest, highest + 1);
+    f(kFiniteBins, kBins);
+  }
+
+  // The bin of rank k, searched upwards from bin `from` with `below` values under it; on return
+  // `below` counts the values under the bin found.
+  std::uint32_t find(std::size_t k, std::uint32_t from, std::size_t& below) const
+  {
+    std::uint32_t b = from;
+    for (; b + 16 <= kBins; b += 16)  // 16 bins at a time first: most bins are empty
+    {
+      std::uint32_t s = 0;
+      for (std::uint32_t j = 0; j < 16; ++j) s += count[b + j];
+      if (below + s > k) break;
+      below += s;
+    }
+    for (; below + count[b] <= k; ++b) below += count[b];
+    return b;
+  }
+  // The same from the start, where no value lies in the bins (0, lowest) (see binRange).
+  std::uint32_t findFirst(std::size_t k, std::size_t& below) const
+  {
+    std::uint32_t from = lowest;
+    below = from > 0 ? count[0] : 0;  // only zeros in bin 0 then
+    if (below > k) below = from = 0;  // one of them
+    return find(k, from, below);
+  }
+};
+
+// Whether x[0, n) can be binned (false when a value has its sign bit set: negative, -0 or a
+// negative NaN, which the bins cannot order; the caller takes the general path then), and the
+// bins its values fall in: `lowest`, the bin of the smallest value other than +0 (zeros are
+// common, and a search up from bin 0 would cross every empty bin between them and the rest),
+// and `highest`, that of the largest finite value.
+RC_SIMD_CLONES bool binRange(const float* x, std::size_t n, std::uint32_t& lowest, std::uint32_t& highest)
+{
+  std::uint32_t sign = 0, low = 0xFFFFFFFFu, high = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint32_t u = floatBits(x[i]);
+    sign |= u;
+    low = std::min(low, u - 1);  // +0 wraps to the top
+    high = std::max(high, u & detail::maskOf(u < 0x7F800000u));  // finite only (a mask: vectorizes)
+  }
+  lowest = (low + 1) >> kBinShift;
+  highest = high >> kBinShift;
+  return (sign >> 31) == 0;
+}
+
+// Lane orders that move the lanes of an 8-bit mask's set bits to the front, in order.
+struct CompressTable
+{
+  std::int32_t lane[256][8];
+};
+constexpr CompressTable makeCompressTable()
+{
+  CompressTable t{};
+  for (int mask = 0; mask < 256; ++mask)
+    for (int l = 0, j = 0; l < 8; ++l)
+      if ((mask >> l) & 1) t.lane[mask][j++] = l;
+  return t;
+}
+constexpr CompressTable kCompress = makeCompressTable();
+
+// Eight lanes (GCC vector extension, element-wise: the same bits as scalar code; AVX2 in the
+// AVX2 clones, with one lane permutation for the copy-out).
+using V8f = float __attribute__((vector_size(32)));
+using V8i = std::int32_t __attribute__((vector_size(32)));
+
+// Stores the lanes of v whose `in` lanes are set (all ones) at out + m, in order, and advances m.
+// Writes all eight lanes: those past the kept ones are overwritten by the next call or unused.
+// Where the wanted values (a few percent, anywhere in the ring) were flagged first and blocks
+// holding one copied, that branch mispredicted about half the time.
+__attribute__((always_inline)) inline void appendLanes(const V8f& v, const V8i& in, float* out, std::size_t& m)
+{
+  const V8i bit = {1, 2, 4, 8, 16, 32, 64, 128};
+  V8i s = in & bit;  // the mask's bits, summed across the lanes
+  s += __builtin_shuffle(s, V8i{4, 5, 6, 7, 0, 1, 2, 3});
+  s += __builtin_shuffle(s, V8i{2, 3, 0, 1, 6, 7, 4, 5});
+  s += __builtin_shuffle(s, V8i{1, 0, 3, 2, 5, 4, 7, 6});
+  const auto mask = static_cast<std::uint32_t>(s[0]);
+  V8i lane;
+  std::memcpy(&lane, kCompress.lane[mask], sizeof lane);
+  const V8f packed = __builtin_shuffle(v, lane);
+  std::memcpy(out + m, &packed, sizeof packed);
+  m += static_cast<std::size_t>(__builtin_popcount(mask));
+}
+
+// Copies the values of x[0, n) (no sign bit set) in bin b0 or b1 to out (room for n + 8), in
+// order; returns how many.
+RC_SIMD_CLONES std::size_t binCandidates(const float* x, std::size_t n, std::uint32_t b0, std::uint32_t b1, float* out)
+{
+  const auto c0 = static_cast<std::int32_t>(b0), c1 = static_cast<std::int32_t>(b1);
+  const V8i v0 = {c0, c0, c0, c0, c0, c0, c0, c0}, v1 = {c1, c1, c1, c1, c1, c1, c1, c1};
+  std::size_t m = 0, i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    V8f v;
+    V8i u;
+    std::memcpy(&v, x + i, sizeof v);
+    std::memcpy(&u, x + i, sizeof u);
+    const V8i bin = u >> kBinShift;
+    appendLanes(v, (bin == v0) | (bin == v1), out, m);
+  }
+  for (; i < n; ++i)
+  {
+    const std::uint32_t bin = floatBits(x[i]) >> kBinShift;
+    out[m] = x[i];  // overwritten by the next one unless this one is wanted
+    m += (bin == b0) | (bin == b1) ? 1 : 0;
+  }
+  return m;
+}
+
+// Copies the deviations |x - med| in [lo, hi] to out (room for n + 8), in order; returns how
+// many, and in `under` how many deviations are below lo (NaN: in neither).
+RC_SIMD_CLONES std::size_t bandCandidates(const float* x, std::size_t n, float med, float lo, float hi, float* out,
+                                          std::size_t& under)
+{
+  const V8f vmed = {med, med, med, med, med, med, med, med};
+  const V8f vlo = {lo, lo, lo, lo, lo, lo, lo, lo}, vhi = {hi, hi, hi, hi, hi, hi, hi, hi};
+  const V8i abs_mask = {0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF,
+                        0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF};
+  V8i below = {};  // minus the count per lane
+  std::size_t m = 0, i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    V8f v;
+    std::memcpy(&v, x + i, sizeof v);
+    const V8f diff = v - vmed;
+    V8i bits;
+    std::memcpy(&bits, &diff, sizeof bits);
+    bits &= abs_mask;  // fabs
+    V8f d;
+    std::memcpy(&d, &bits, sizeof d);
+    below += d < vlo;
+    appendLanes(d, (d >= vlo) & (d <= vhi), out, m);
+  }
+  std::uint32_t count = 0;
+  for (int l = 0; l < 8; ++l) count -= static_cast<std::uint32_t>(below[l]);
+  for (; i < n; ++i)
+  {
+    const float d = std::fabs(x[i] - med);
+    count += d < lo ? 1u : 0u;
+    out[m] = d;  // overwritten by the next one unless this one is wanted
+    m += (d >= lo) & (d <= hi) ? 1 : 0;
+  }
+  under = count;
+  return m;
+}
+
+// The deviations |v - med| of the values of a bin lie between bounds set by the bin's edges
+// (float subtraction is monotonic), growing with the distance from med's bin on either side.
+// Taking med's bin, then the others in increasing order of their lower (upper) bound until more
+// than `rank` values are taken, the last bound taken is a lower (with med's bin's own, an upper)
+// bound of the rank-th deviation, the MAD.
+RC_SIMD_CLONES float deviationBound(const BinnedRing& r, std::uint32_t med_bin, float med, std::size_t rank, bool upper)
+{
+  const float own = upper ? std::max(highEdge(med_bin) - med, med - lowEdge(med_bin)) : 0.0f;
+  float d = own;
+  std::size_t seen = r.count[med_bin];
+  std::uint32_t up = med_bin + 1, dn = med_bin;  // next bin above; one past the next below
+  while (seen <= rank)
+  {
+    while (up < kFiniteBins && r.count[up] == 0) ++up;
+    while (dn > 0 && r.count[dn - 1] == 0) --dn;
+    const float d_up = up < kFiniteBins ? (upper ? highEdge(up) : lowEdge(up)) - med : kInf;
+    const float d_dn = dn > 0 ? med - (upper ? lowEdge(dn - 1) : highEdge(dn - 1)) : kInf;
+    if (d_up <= d_dn)
+    {
+      d = d_up;
+      seen += r.count[up++];
+    }
+    else
+    {
+      d = d_dn;
+      seen += r.count[--dn];
+    }
+  }
+  return std::max(d, own);
+}
+
+// Value of rank k in c[0, m) (m > k), the wanted bins' values. Few: counted for each value, those
+// below it and those not above it (branch-free and vectorized, where nth_element's comparisons
+// mispredict half the time; twice as fast up to ~50). Without -0 or NaN, equal means same bits.
+float selectCandidate(float* c, std::size_t m, std::size_t k)
+{
+  if (m > 48) return selectRank(c, m, k);
+  for (std::size_t i = 0;; ++i)
+  {
+    const float v = c[i];
+    std::uint32_t below = 0, not_above = 0;
+    for (std::size_t j = 0; j < m; ++j)
+    {
+      below += c[j] < v ? 1u : 0u;
+      not_above += c[j] <= v ? 1u : 0u;
+    }
+    if (below <= k && k < not_above) return v;
+  }
+}
+
+// Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
+RC_SIMD_CLONES bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
+{
+  if (!binRange(x, n, r.lowest, r.highest)) return false;
+  const std::size_t finite = r.countBins(x, n);
+  if (finite == 0)
+  {
+    lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
+    r.release();
+    return true;
+  }
+  const std::size_t k_lo = rankOf(finite, 0.25), k_hi = rankOf(finite, 0.75);
+  std::size_t below_lo = 0;
+  const std::uint32_t b_lo = r.findFirst(k_lo, below_lo);
+  std::size_t below_hi = below_lo;
+  const std::uint32_t b_hi = r.find(k_hi, b_lo, below_hi);
+  const std::size_t m = binCandidates(x, n, b_lo, b_hi, r.cand);
+  // the candidates of the lower bin come first in the order of the values
+  const std::size_t r_hi = k_hi - below_hi + (b_hi != b_lo ? r.count[b_lo] : 0);
+  r.release();
+  lo = selectCandidate(r.cand, m, k_lo - below_lo);
+  hi = selectCandidate(r.cand, m, r_hi);
+  return true;
+}
+
+// max(out, median + k * 1.4826 * MAD) of the finite values of x[0, n) (out unchanged when none
+// is finite); false when they need the general path.
+RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
+{
+  if (!binRange(x, n, r.lowest, r.highest)) return false;
+  const std::size_t finite = r.countBins(x, n);
+  if (finite == 0)
+  {
+    r.release();
+    return true;
+  }
+  const std::size_t rank = rankOf(finite, 0.5);
+  std::size_t below = 0;
+  const std::uint32_t b = r.findFirst(rank, below);
+  std::size_t m = binCandidates(x, n, b, b, r.cand);
+  const float med = selectCandidate(r.cand, m, rank - below);
+  const float lo = deviationBound(r, b, med, rank, false), hi = deviationBound(r, b, med, rank, true);
+  r.release();
+  m = bandCandidates(x, n, med, lo, hi, r.cand, below);
+  const float mad = selectCandidate(r.cand, m, rank - below);
+  out = std::max(med + k * kMadToSigma * mad, out);
+  return true;
+}
+}  // namespace
+
+void Classifier::computeThresholds(const ScanGrid& grid, const Features& f, const Params& P,
+                                   std::vector<RingThresholds>& out)
+{
+  out.assign(static_cast<std::size_t>(grid.num_rings), RingThresholds{});
+  const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
+  const float sigma = P.range_noise;
+  std::uint32_t largest = 0;
+  for (int n = 0; n < grid.num_rings; ++n) largest = std::max(largest, grid.ringSize(n));
+  scratch_.resize(largest + 8u);  // grown once: no allocation in later frames
+  BinnedRing r;  // all counters zero
+  r.cand = scratch_.data();
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    RingThresholds& t = out[static_cast<std::size_t>(n)];
+    if (quartile)
+    {
+      // Algorithm 1: Q25 and Q75 of each feature over the ring, each by one O(K) selection.
+      auto quartiles = [&](const std::vector<float>& v, float& lo, float& hi) {
+        if (binnedQuartiles(v.data() + b, e - b, r, lo, hi)) return;
+        const std::size_t k = gatherFinite(v, b, e, r.cand);
+        lo = selectQuantile(r.cand, k, 0.25);
+        hi = selectQuantile(r.cand, k, 0.75);
+        if (k == 0) lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
+      };
+      float s_lo;
+      quartiles(f.curvature, t.curvature_low, t.curvature_high);
+      quartiles(f.smoothness, s_lo, t.smoothness_high);
+      quartiles(f.discontinuity, t.discontinuity_low, t.discontinuity_high);
+      continue;
+    }
+    // Robust: median + k * MAD on the ring, never below what noise alone can produce.
+    auto robust = [&](const std::vector<float>& v, float floor) {
+      float thr = floor;
+      if (binnedMedianPlusKMad(v.data() + b, e - b, P.robust_k, r, thr)) return thr;
+      const std::size_t k = gatherFinite(v, b, e, r.cand);
+      return k ? std::max(medianPlusKMad(r.cand, k, P.robust_k), floor) : floor;
+    };
+    t.curvature_high = robust(f.turning, P.edge_min_angle_deg * kDegToRad);
+    t.curvature_low = t.curvature_high;
+    t.smoothness_high = robust(f.smoothness, (P.noise_floor_k * sigma) * (P.noise_floor_k * sigma));
+    t.discontinuity_high = robust(f.discontinuity, P.discontinuity_mode == DiscontinuityMode::Jump ? P.jump_min_ratio : 0.9f);
+    t.discontinuity_low = t.discontinuity_high;
+  }
+}
+
+}  // namespace ring_curvature
