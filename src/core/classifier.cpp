@@ -1,5 +1,6 @@
 // Labels from the per-ring thresholds (Algorithm 1 and the robust rules) and non-maximum suppression.
 #include "ring_curvature/classifier.hpp"
+#include "simd_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,10 @@ std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
     std::uint64_t w;
     std::memcpy(&w, lab + u, sizeof w);
     if ((w & kBits) == 0) continue;
+#if defined(__GNUC__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    // label u + j is byte j: its feature bit is bit 8 j + 1
+    return u + static_cast<std::uint32_t>(__builtin_ctzll(w & kBits)) / 8;
+#else
     // the samples before the first feature of the eight, counted without a branch to mispredict
     std::uint32_t before = 0;
     bool seen = false;
@@ -39,6 +44,7 @@ std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
       before += seen ? 0 : 1;
     }
     return u + before;
+#endif
   }
   while (u < end && !isFeature(lab[u])) ++u;
   return u;
@@ -50,7 +56,7 @@ std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
 // Table 2) reaches them as a threshold no value exceeds. Isolated points stay None.
 
 // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
-void labelQuartile(const Features& f, std::size_t b, std::size_t n, const RingThresholds& t, bool use_curvature,
+RC_SIMD_CLONES void labelQuartile(const Features& f, std::size_t b, std::size_t n, const RingThresholds& t, bool use_curvature,
                    Label* label)
 {
   const float *const kap = f.curvature.data() + b, *const sm = f.smoothness.data() + b,
@@ -74,7 +80,7 @@ void labelQuartile(const Features& f, std::size_t b, std::size_t n, const RingTh
 
 // Robust rules: a turn or a jump counts only above its ring's threshold and above noise.
 template <bool kJump>
-void labelRobust(const Features& f, const double* range_b, std::size_t b, std::size_t n, const RingThresholds& t,
+RC_SIMD_CLONES void labelRobust(const Features& f, const double* range_b, std::size_t b, std::size_t n, const RingThresholds& t,
                  float turn_noise, double jump_noise, Label* label)
 {
   const float *const kap = f.curvature.data() + b, *const turning = f.turning.data() + b,
