@@ -151,9 +151,9 @@ float medianPlusKMad(float* buf, std::size_t n, float k)
 // bits, eighths of a binade) bin a ring's values with no key transform, no min/max pass and no
 // copy. The ring is read in place; only the values of the bins that hold the wanted ranks (one
 // to three percent) are copied out for the exact selection.
-constexpr int kBinShift = 20;
-constexpr std::uint32_t kBins = 2048;        // every float with a clear sign bit
-constexpr std::uint32_t kFiniteBins = 2040;  // bins 2040..2047: +inf and NaN (exponent all ones)
+constexpr int kBinShift = 20;  // finer bins (19, 18) took more instructions (deviationBound's walk)
+constexpr std::uint32_t kBins = 1u << (31 - kBinShift);          // every float with a clear sign bit
+constexpr std::uint32_t kFiniteBins = 0x7F800000u >> kBinShift;  // the rest: +inf and NaN (exponent all ones)
 inline float lowEdge(std::uint32_t bin) { return bitsFloat(bin << kBinShift); }
 inline float highEdge(std::uint32_t bin) { return bitsFloat(((bin + 1) << kBinShift) - 1); }
 
@@ -273,19 +273,47 @@ using V8i = std::int32_t __attribute__((vector_size(32)));
 // Writes all eight lanes: those past the kept ones are overwritten by the next call or unused.
 // Where the wanted values (a few percent, anywhere in the ring) were flagged first and blocks
 // holding one copied, that branch mispredicted about half the time.
-__attribute__((always_inline)) inline void appendLanes(const V8f& v, const V8i& in, float* out, std::size_t& m)
+__attribute__((always_inline)) inline void appendLanes(const V8f& v, std::uint32_t mask, float* out, std::size_t& m)
 {
-  const V8i bit = {1, 2, 4, 8, 16, 32, 64, 128};
-  V8i s = in & bit;  // the mask's bits, summed across the lanes
-  s += __builtin_shuffle(s, V8i{4, 5, 6, 7, 0, 1, 2, 3});
-  s += __builtin_shuffle(s, V8i{2, 3, 0, 1, 6, 7, 4, 5});
-  s += __builtin_shuffle(s, V8i{1, 0, 3, 2, 5, 4, 7, 6});
-  const auto mask = static_cast<std::uint32_t>(s[0]);
   V8i lane;
   std::memcpy(&lane, kCompress.lane[mask], sizeof lane);
   const V8f packed = __builtin_shuffle(v, lane);
   std::memcpy(out + m, &packed, sizeof packed);
   m += static_cast<std::size_t>(__builtin_popcount(mask));
+}
+// The same for the wanted lanes of x[i, n) that group(j, v, in) gives for j = i, i + 8, ...,
+// two groups a step (one sum across the lanes for both masks); returns where it stopped.
+template <class Group>
+__attribute__((always_inline)) inline std::size_t appendGroups(std::size_t i, std::size_t n, Group group, float* out,
+                                                               std::size_t& m)
+{
+  const V8i bit = {1, 2, 4, 8, 16, 32, 64, 128};
+  for (; i + 16 <= n; i += 16)
+  {
+    V8f a, b;
+    V8i in_a, in_b;
+    group(i, a, in_a);
+    group(i + 8, b, in_b);
+    V8i s = (in_a & bit) | (in_b & (bit << 8));  // the masks' bits, summed across the lanes
+    s += __builtin_shuffle(s, V8i{4, 5, 6, 7, 0, 1, 2, 3});
+    s += __builtin_shuffle(s, V8i{2, 3, 0, 1, 6, 7, 4, 5});
+    s += __builtin_shuffle(s, V8i{1, 0, 3, 2, 5, 4, 7, 6});
+    const auto mask = static_cast<std::uint32_t>(s[0]);
+    appendLanes(a, mask & 0xFFu, out, m);
+    appendLanes(b, mask >> 8, out, m);
+  }
+  for (; i + 8 <= n; i += 8)
+  {
+    V8f a;
+    V8i in_a;
+    group(i, a, in_a);
+    V8i s = in_a & bit;
+    s += __builtin_shuffle(s, V8i{4, 5, 6, 7, 0, 1, 2, 3});
+    s += __builtin_shuffle(s, V8i{2, 3, 0, 1, 6, 7, 4, 5});
+    s += __builtin_shuffle(s, V8i{1, 0, 3, 2, 5, 4, 7, 6});
+    appendLanes(a, static_cast<std::uint32_t>(s[0]), out, m);
+  }
+  return i;
 }
 
 // Copies the values of x[0, n) (no sign bit set) in bin b0 or b1 to out (room for n + 8), in
@@ -294,17 +322,15 @@ RC_SIMD_CLONES std::size_t binCandidates(const float* x, std::size_t n, std::uin
 {
   const auto c0 = static_cast<std::int32_t>(b0), c1 = static_cast<std::int32_t>(b1);
   const V8i v0 = {c0, c0, c0, c0, c0, c0, c0, c0}, v1 = {c1, c1, c1, c1, c1, c1, c1, c1};
-  std::size_t m = 0, i = 0;
-  for (; i + 8 <= n; i += 8)
-  {
-    V8f v;
+  std::size_t m = 0;
+  auto group = [&](std::size_t j, V8f& v, V8i& in) __attribute__((always_inline)) {
     V8i u;
-    std::memcpy(&v, x + i, sizeof v);
-    std::memcpy(&u, x + i, sizeof u);
+    std::memcpy(&v, x + j, sizeof v);
+    std::memcpy(&u, x + j, sizeof u);
     const V8i bin = u >> kBinShift;
-    appendLanes(v, (bin == v0) | (bin == v1), out, m);
-  }
-  for (; i < n; ++i)
+    in = (bin == v0) | (bin == v1);
+  };
+  for (std::size_t i = appendGroups(0, n, group, out, m); i < n; ++i)
   {
     const std::uint32_t bin = floatBits(x[i]) >> kBinShift;
     out[m] = x[i];  // overwritten by the next one unless this one is wanted
@@ -323,20 +349,19 @@ RC_SIMD_CLONES std::size_t bandCandidates(const float* x, std::size_t n, float m
   const V8i abs_mask = {0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF,
                         0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF, 0x7FFFFFFF};
   V8i below = {};  // minus the count per lane
-  std::size_t m = 0, i = 0;
-  for (; i + 8 <= n; i += 8)
-  {
+  std::size_t m = 0;
+  auto group = [&](std::size_t j, V8f& d, V8i& in) __attribute__((always_inline)) {
     V8f v;
-    std::memcpy(&v, x + i, sizeof v);
+    std::memcpy(&v, x + j, sizeof v);
     const V8f diff = v - vmed;
     V8i bits;
     std::memcpy(&bits, &diff, sizeof bits);
     bits &= abs_mask;  // fabs
-    V8f d;
     std::memcpy(&d, &bits, sizeof d);
     below += d < vlo;
-    appendLanes(d, (d >= vlo) & (d <= vhi), out, m);
-  }
+    in = (d >= vlo) & (d <= vhi);
+  };
+  std::size_t i = appendGroups(0, n, group, out, m);
   std::uint32_t count = 0;
   for (int l = 0; l < 8; ++l) count -= static_cast<std::uint32_t>(below[l]);
   for (; i < n; ++i)
