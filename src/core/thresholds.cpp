@@ -380,30 +380,48 @@ RC_SIMD_CLONES std::size_t bandCandidates(const float* x, std::size_t n, float m
 // Taking med's bin, then the others in increasing order of their lower (upper) bound until more
 // than `rank` values are taken, the last bound taken is a lower (with med's bin's own, an upper)
 // bound of the rank-th deviation, the MAD.
-RC_SIMD_CLONES float deviationBound(const BinnedRing& r, std::uint32_t med_bin, float med, std::size_t rank, bool upper)
+// Bins are taken one at a time, empty ones too (they add nothing, so the bins with values are
+// taken in the same order and the walk ends at the same one): a step without a branch, where
+// skipping the empty ones mispredicted at every gap. Only the stretches where no value can be,
+// (0, lowest) and (highest, +inf), are jumped. The two walks (lower and upper bound) step
+// together: two independent chains of dependent steps.
+struct DeviationWalk
 {
-  const float own = upper ? std::max(highEdge(med_bin) - med, med - lowEdge(med_bin)) : 0.0f;
-  float d = own;
-  std::size_t seen = r.count[med_bin];
-  std::uint32_t up = med_bin + 1, dn = med_bin;  // next bin above; one past the next below
-  while (seen <= rank)
+  std::uint32_t up, dn;  // next bin above; one past the next below
+  std::size_t seen;
+  float d;
+};
+template <bool kUpper>
+inline void deviationStep(const BinnedRing& r, std::uint32_t lowest, float med, DeviationWalk& w)
+{
+  const float d_up = w.up < kFiniteBins ? (kUpper ? highEdge(w.up) : lowEdge(w.up)) - med : kInf;
+  const float d_dn = w.dn > 0 ? med - (kUpper ? lowEdge(w.dn - 1) : highEdge(w.dn - 1)) : kInf;
+  const bool take_up = d_up <= d_dn;
+  w.d = take_up ? d_up : d_dn;
+  w.seen += r.count[take_up ? w.up : w.dn - 1];
+  w.up += take_up ? 1 : 0;
+  w.up = w.up > r.highest ? kFiniteBins : w.up;
+  w.dn -= take_up ? 0 : 1;
+  w.dn = w.dn == lowest ? 1 : w.dn;  // below `lowest`, only bin 0 may hold values
+}
+// Lower and upper bounds of the MAD, around med in bin med_bin.
+void deviationBounds(const BinnedRing& r, std::uint32_t med_bin, float med, std::size_t rank, float& lo, float& hi)
+{
+  const float own = std::max(highEdge(med_bin) - med, med - lowEdge(med_bin));
+  const std::uint32_t lowest = r.lowest > 1 ? r.lowest : kBins;  // (kBins: no jump)
+  DeviationWalk a{med_bin + 1 > r.highest ? kFiniteBins : med_bin + 1, med_bin == lowest ? 1 : med_bin,
+                  r.count[med_bin], 0.0f};
+  DeviationWalk b = a;
+  b.d = own;
+  while (a.seen <= rank && b.seen <= rank)
   {
-    while (up < kFiniteBins && r.count[up] == 0) ++up;
-    while (dn > 0 && r.count[dn - 1] == 0) --dn;
-    const float d_up = up < kFiniteBins ? (upper ? highEdge(up) : lowEdge(up)) - med : kInf;
-    const float d_dn = dn > 0 ? med - (upper ? lowEdge(dn - 1) : highEdge(dn - 1)) : kInf;
-    if (d_up <= d_dn)
-    {
-      d = d_up;
-      seen += r.count[up++];
-    }
-    else
-    {
-      d = d_dn;
-      seen += r.count[--dn];
-    }
+    deviationStep<false>(r, lowest, med, a);
+    deviationStep<true>(r, lowest, med, b);
   }
-  return std::max(d, own);
+  while (a.seen <= rank) deviationStep<false>(r, lowest, med, a);
+  while (b.seen <= rank) deviationStep<true>(r, lowest, med, b);
+  lo = a.d;  // 0 where med's own bin holds the rank
+  hi = std::max(b.d, own);
 }
 
 // Value of rank k in c[0, m) (m > k), the wanted bins' values. Few: counted for each value, those
@@ -466,7 +484,8 @@ RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k,
   const std::uint32_t b = r.findFirst(rank, below);
   std::size_t m = binCandidates(x, n, b, b, r.cand);
   const float med = selectCandidate(r.cand, m, rank - below);
-  const float lo = deviationBound(r, b, med, rank, false), hi = deviationBound(r, b, med, rank, true);
+  float lo, hi;
+  deviationBounds(r, b, med, rank, lo, hi);
   r.release();
   m = bandCandidates(x, n, med, lo, hi, r.cand, below);
   const float mad = selectCandidate(r.cand, m, rank - below);
