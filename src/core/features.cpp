@@ -164,31 +164,73 @@ inline double windowVariance(const double* S0, const double* S1, const double* S
   return std::max(0.0, v);
 }
 
-RC_SIMD_CLONES void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, const double* __restrict S0,
-                                         const double* __restrict S1, const double* __restrict S2,
-                                         float* __restrict out)
+// One sample of fullWindowSmoothness. The window bounds are clamped into [0, E] only for an
+// open ring's first and last w samples; the caller's middle loop passes the same bounds
+// unclamped (clamping changes nothing there), so that the compiler sees contiguous loads there
+// rather than per-element inserts (it vectorized the clamped indices as emulated gathers).
+template <bool kClamp>
+inline float fullWindowSample(int k, int w, int ext, bool detrend, bool sided, int E, const double* __restrict S0,
+                              const double* __restrict S1, const double* __restrict S2, double ic, double it,
+                              double ics, double its)
+{
+  const int c0 = k + ext;
+  const int lo = kClamp ? std::max(c0 - w, 0) : c0 - w;
+  const int hi = kClamp ? std::min(c0 + w + 1, E) : c0 + w + 1;
+  const int mid = kClamp ? std::min(c0 + 1, E) : c0 + 1;
+  double v = windowVariance(S0, S1, S2, detrend, lo, hi, ic, it);
+  if (sided)
+  {
+    v = std::min(v, windowVariance(S0, S1, S2, true, lo, mid, ics, its));
+    v = std::min(v, windowVariance(S0, S1, S2, true, c0, hi, ics, its));
+  }
+  return static_cast<float>(v);
+}
+
+// Samples whose windows need no clamp: c0 - w >= 0 and c0 + w + 1 <= E (all of a closed ring).
+inline void unclampedRange(int K, int w, int ext, int& k0, int& k1)
+{
+  k0 = std::min(std::max(w - ext, 0), K);
+  k1 = std::max(std::min(K + ext - w, K), k0);
+}
+
+// Detrended (w + 1 >= 3): the centred and the two one-sided windows. Two functions rather than
+// one with a lambda or template: the loops must be compiled inside the AVX2 clone.
+RC_SIMD_CLONES void fullWindowSmoothnessSided(int K, int w, int ext, int E, const double* __restrict S0,
+                                              const double* __restrict S1, const double* __restrict S2,
+                                              float* __restrict out)
 {
   const double nc = 2.0 * w + 1.0, ns = w + 1.0;
   const double ic = invCount(nc), it = invTrend(nc), ics = invCount(ns), its = invTrend(ns);
-  if (detrend && w + 1 >= 3)  // the centred and the two one-sided windows
-  {
-    for (int k = 0; k < K; ++k)
-    {
-      const int c0 = k + ext;
-      const int lo = std::max(c0 - w, 0), hi = std::min(c0 + w + 1, E), mid = std::min(c0 + 1, E);
-      double v = windowVariance(S0, S1, S2, true, lo, hi, ic, it);
-      v = std::min(v, windowVariance(S0, S1, S2, true, lo, mid, ics, its));
-      v = std::min(v, windowVariance(S0, S1, S2, true, c0, hi, ics, its));
-      out[k] = static_cast<float>(v);
-    }
-    return;
-  }
-  for (int k = 0; k < K; ++k)
-  {
-    const int c0 = k + ext;
-    const int lo = std::max(c0 - w, 0), hi = std::min(c0 + w + 1, E);
-    out[k] = static_cast<float>(windowVariance(S0, S1, S2, detrend, lo, hi, ic, it));
-  }
+  int k0, k1;
+  unclampedRange(K, w, ext, k0, k1);
+  for (int k = 0; k < k0; ++k) out[k] = fullWindowSample<true>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
+  for (int k = k0; k < k1; ++k)
+    out[k] = fullWindowSample<false>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
+  for (int k = k1; k < K; ++k) out[k] = fullWindowSample<true>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
+}
+
+// The centred window alone (plain, or detrended with w + 1 < 3).
+RC_SIMD_CLONES void fullWindowSmoothnessCentred(int K, int w, int ext, bool detrend, int E,
+                                                const double* __restrict S0, const double* __restrict S1,
+                                                const double* __restrict S2, float* __restrict out)
+{
+  const double nc = 2.0 * w + 1.0;
+  const double ic = invCount(nc), it = invTrend(nc);
+  int k0, k1;
+  unclampedRange(K, w, ext, k0, k1);
+  for (int k = 0; k < k0; ++k) out[k] = fullWindowSample<true>(k, w, ext, detrend, false, E, S0, S1, S2, ic, it, 0, 0);
+  for (int k = k0; k < k1; ++k)
+    out[k] = fullWindowSample<false>(k, w, ext, detrend, false, E, S0, S1, S2, ic, it, 0, 0);
+  for (int k = k1; k < K; ++k) out[k] = fullWindowSample<true>(k, w, ext, detrend, false, E, S0, S1, S2, ic, it, 0, 0);
+}
+
+inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, const double* S0, const double* S1,
+                                 const double* S2, float* out)
+{
+  if (detrend && w + 1 >= 3)
+    fullWindowSmoothnessSided(K, w, ext, E, S0, S1, S2, out);
+  else
+    fullWindowSmoothnessCentred(K, w, ext, detrend, E, S0, S1, S2, out);
 }
 
 // Per-ring view with circular neighbour access limited to the current run.
