@@ -35,6 +35,7 @@ private:
   std::vector<double> rho_pad_;       // the ring's ranges, padded with the seam's neighbours
   std::vector<double> az_pad_;        // and azimuths
   std::vector<int> runs_;             // links free to the left (first K) and right (next K) of each sample
+  std::vector<int> seg_;              // the ring's segments between gaps (their first samples)
   std::vector<float> jump_;           // discontinuity of each link (k - 1, k), and the seam's again
   std::vector<double> prefix_;        // prefix sums for windowed statistics
   std::vector<int> half_;             // chord mode: samples per half chord
