@@ -245,6 +245,15 @@ inline void segmentRuns(int p, int q, int K, int cap, int* __restrict L, int* __
   }
 }
 
+// Turning angle and curvature of a sample, NaN where undefined. Straight-line (the quotient
+// is formed everywhere and then chosen; callers pass `&` rather than `&&`): loops vectorize.
+inline void storeCurvature(double turn, double len, bool defined, float& turning, float& curvature)
+{
+  const float kappa = static_cast<float>(turn / len);
+  turning = defined ? static_cast<float>(turn) : kNaN;
+  curvature = defined & (len > 0) ? kappa : kNaN;
+}
+
 // Per-ring view with circular neighbour access limited to the current run.
 struct RingCtx
 {
@@ -396,6 +405,8 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   {
     chordSamples(static_cast<int>(K), rho, cone_cos, res, chord, P.max_chord_samples, H);
   }
+  float* const turning = out.turning.data() + b;
+  float* const curvature = out.curvature.data() + b;
   if (!exact)
   {
     // Chord mode (see chordProducts). If an angle exceeded the polynomial's range, the ring is
@@ -403,10 +414,13 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     if (chordProducts(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2))
       chordProductsLibm(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2);
     // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
+    // The turning angle and arc length go straight into kappa (one loop, not two through arrays).
     for (std::uint32_t k = 0; k < K; ++k)
     {
-      TURN[k] = std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
-      LEN[k] = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
+      const double turn =
+          std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
+      const double len = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
+      storeCurvature(turn, len, (L[k] != 0) & (Rr[k] != 0), turning[k], curvature[k]);
     }
   }
   else
@@ -430,19 +444,8 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
       const double dth = relAngle(pp, pk);
       LEN[k] = std::sqrt(dr * dr + (rbar * cone_cos * dth) * (rbar * cone_cos * dth));
     }
-  }
-  {
-    // Straight-line (the quotient is formed everywhere and then chosen; `&` rather than `&&`),
-    // raw pointers: the compiler vectorizes this.
-    float* const turning = out.turning.data() + b;
-    float* const curvature = out.curvature.data() + b;
     for (std::uint32_t k = 0; k < K; ++k)
-    {
-      const bool defined = (L[k] != 0) & (Rr[k] != 0);
-      const float kappa = static_cast<float>(TURN[k] / LEN[k]);
-      turning[k] = defined ? static_cast<float>(TURN[k]) : kNaN;
-      curvature[k] = defined & (LEN[k] > 0) ? kappa : kNaN;
-    }
+      storeCurvature(TURN[k], LEN[k], (L[k] != 0) & (Rr[k] != 0), turning[k], curvature[k]);
   }
 
   // Discontinuity.
@@ -492,13 +495,14 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     // Running sums in registers (the same additions in the same order): read back from the
     // arrays, which may alias rp as far as the compiler knows, each step waited on the store
     // of the one before (15 % of this function under perf).
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    // The index as a double counter (exact: E < 2^53), not converted from size_t per step.
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, ed = 0.0;
     const double* const rs = rp - ext;  // the seam extensions are in the padding
-    for (std::size_t e = 0; e < E; ++e)
+    for (std::size_t e = 0; e < E; ++e, ed += 1.0)
     {
       const double r = rs[e];
       s0 += r;
-      s1 += static_cast<double>(e) * r;
+      s1 += ed * r;
       s2 += r * r;
       S0[e + 1] = s0;
       S1[e + 1] = s1;
