@@ -153,13 +153,13 @@ inline double invTrend(double cnt) { return 1.0 / ((cnt * cnt - 1.0) * cnt * (1.
 // centred window of 2w + 1 samples and, detrended, the two one-sided ones of w + 1, from the
 // prefix sums S0 (rho), S1 (j rho), S2 (rho^2) over extended indices [0, E]. Samples near a gap
 // get values here too (their indices clamped into range), which the caller overwrites.
+// jbar is the window's mean index, 0.5 * (lo + hi - 1).
 inline double windowVariance(const double* S0, const double* S1, const double* S2, bool detrend, int lo, int hi,
-                             double inv_cnt, double inv_trend)
+                             double jbar, double inv_cnt, double inv_trend)
 {
   const double s0 = S0[hi] - S0[lo], s1 = S1[hi] - S1[lo], s2 = S2[hi] - S2[lo];
   const double mean = s0 * inv_cnt;
   double v = s2 * inv_cnt - mean * mean;  // Eq 10
-  const double jbar = 0.5 * static_cast<double>(lo + hi - 1);
   const double sjr = s1 - jbar * s0;            // sum (j - jbar) * rho
   v = detrend ? v - sjr * sjr * inv_trend : v;  // remove the linear trend
   return std::max(0.0, v);
@@ -178,11 +178,15 @@ inline float fullWindowSample(int k, int w, int ext, bool detrend, bool sided, i
   const int lo = kClamp ? std::max(c0 - w, 0) : c0 - w;
   const int hi = kClamp ? std::min(c0 + w + 1, E) : c0 + w + 1;
   const int mid = kClamp ? std::min(c0 + 1, E) : c0 + 1;
-  double v = windowVariance(S0, S1, S2, detrend, lo, hi, ic, it);
+  // Mean indices: unclamped, 0.5 * (lo + hi - 1) is c0 for the centred window and c0 -+ w / 2
+  // for the one-sided ones, exactly (multiples of 0.5 far below 2^52): one conversion, not three.
+  const double dc = static_cast<double>(c0), hw = 0.5 * static_cast<double>(w);
+  const auto jbar = [](int a, int z) { return 0.5 * static_cast<double>(a + z - 1); };
+  double v = windowVariance(S0, S1, S2, detrend, lo, hi, kClamp ? jbar(lo, hi) : dc, ic, it);
   if (sided)
   {
-    v = std::min(v, windowVariance(S0, S1, S2, true, lo, mid, ics, its));
-    v = std::min(v, windowVariance(S0, S1, S2, true, c0, hi, ics, its));
+    v = std::min(v, windowVariance(S0, S1, S2, true, lo, mid, kClamp ? jbar(lo, mid) : dc - hw, ics, its));
+    v = std::min(v, windowVariance(S0, S1, S2, true, c0, hi, kClamp ? jbar(c0, hi) : dc + hw, ics, its));
   }
   return static_cast<float>(v);
 }
@@ -518,7 +522,9 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   constexpr std::size_t kTable = 64;
   double inv_cnt_table[kTable], inv_trend_table[kTable];
   inv_cnt_table[0] = inv_trend_table[0] = 0.0;  // never used: windows hold >= 2 samples
-  for (std::size_t t = 1; t < kTable; ++t)
+  // Only the sizes a window can have (at most 2w + 1): these divisions ran for every ring.
+  const std::size_t table_end = std::min(kTable, static_cast<std::size_t>(std::max(w, 0)) * 2 + 2);
+  for (std::size_t t = 1; t < table_end; ++t)
   {
     const double cnt = static_cast<double>(t);
     inv_cnt_table[t] = 1.0 / cnt;
