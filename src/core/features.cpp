@@ -258,6 +258,13 @@ inline void storeCurvature(double turn, double len, bool defined, float& turning
   curvature = defined & (len > 0) ? kappa : kNaN;
 }
 
+// Ring scratch only grows: resizing down, then up for a larger ring, zero-filled the difference.
+template <class T>
+inline void growTo(std::vector<T>& v, std::size_t n)
+{
+  if (v.size() < n) v.resize(n);
+}
+
 // Per-ring view with circular neighbour access limited to the current run.
 struct RingCtx
 {
@@ -322,7 +329,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // left[k] = number of consecutive predecessors reachable without crossing a gap.
   const int cap = std::max({P.max_chord_samples, P.smoothness_window, 2}) + 1;
   auto& left = runs_;
-  left.resize(2 * static_cast<std::size_t>(K));
+  growTo(left, 2 * static_cast<std::size_t>(K));
   int* L = left.data();
   int* Rr = left.data() + K;
   const double* rho = g.range.data() + b;
@@ -336,7 +343,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // Gaps are found by memchr (zero bytes, many at a time) and each segment's runs written by a
   // loop that vectorizes: two scalar passes carrying the last gap cost ~23 instructions a sample
   // (callgrind), and the smoothness below visits only the samples near a gap from the same list.
-  seg_.resize(static_cast<std::size_t>(K) + 2);
+  growTo(seg_, static_cast<std::size_t>(K) + 2);
   int* const seg = seg_.data();
   int num_seg = 0;
   {
@@ -358,8 +365,8 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // of a closed ring across the seam, copies of the end samples for an open one (never used:
   // the run lengths keep every reach inside the ring). Neighbour k + j is then rp[k + j], with
   // no wrap-around arithmetic per access.
-  rho_pad_.resize(K + 2 * static_cast<std::size_t>(cap));
-  az_pad_.resize(K + 2 * static_cast<std::size_t>(cap));
+  growTo(rho_pad_, K + 2 * static_cast<std::size_t>(cap));
+  growTo(az_pad_, K + 2 * static_cast<std::size_t>(cap));
   double* const rp = rho_pad_.data() + cap;
   double* const azp = az_pad_.data() + cap;  // double: one type in the loop below (float widens exactly)
   std::copy(rho, rho + K, rp);
@@ -396,8 +403,8 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // chord mode each loop vectorizes.
   const float chord = P.chord_length;
   const double res = std::max(1e-6f, g.azimuth_resolution);
-  half_.resize(K);
-  turn_len_.resize(6 * static_cast<std::size_t>(K));
+  growTo(half_, K);
+  growTo(turn_len_, 6 * static_cast<std::size_t>(K));
   int* H = half_.data();
   double* TURN = turn_len_.data();
   double* LEN = TURN + K;
@@ -479,7 +486,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     // NaN where there is none, and jump[K] repeats jump[0] (the seam's link of a closed ring), so
     // that largerLink reads both links of every sample without a wrap.
     auto& jump = jump_;
-    jump.resize(K + 1);
+    growTo(jump, K + 1);
     linkJumps(static_cast<int>(K), L, Rr, rp, jump.data());
     jump[K] = jump[0];
     largerLink(static_cast<int>(K), Rr, jump.data(), out.discontinuity.data() + b);
@@ -490,7 +497,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   const int w = P.smoothness_window;
   const int ext = closed ? w : 0;
   const std::size_t E = K + 2 * static_cast<std::size_t>(ext);
-  prefix_.resize(3 * (E + 1));  // every entry but the three leading zeros is written below
+  growTo(prefix_, 3 * (E + 1));  // every entry but the three leading zeros is written below
   double* S0 = prefix_.data();          // sum rho
   double* S1 = S0 + (E + 1);            // sum j * rho
   double* S2 = S1 + (E + 1);            // sum rho^2
