@@ -42,6 +42,67 @@ RC_SIMD_CLONES void angularJoins(std::size_t b, std::size_t e, const Label* __re
   }
 }
 
+// Box, centroid and second moments of one primitive from the grid positions of its points, in
+// the order of its indices (grid points first, then duplicates). All sums run one point at a
+// time in that order, so they are bit for bit those of the per-point accumulation they replace:
+// - box and centroid sum in float: Eigen's cwiseMin(box, v) is std::min(box, v) per
+//   coordinate. The first point starts the box; a duplicate repeats an earlier point's
+//   coordinates, so it would leave the box as it is and goes to the sum only. (Converting
+//   here rather than keeping float copies from the fill: the moments read the same doubles
+//   right after, while a copy was 16 more bytes a point to write and read, which cost on the
+//   large clouds.) The centroid is the sum divided per coordinate, as Eigen's operator/=.
+// - second moments about the float centroid cast to double. Only the six distinct entries
+//   are summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the matrix
+//   is filled from them once per primitive.
+// A point's x, y, z (and a copy of z) go through the box and centroid in one float vector and
+// through the moments in one double vector (GCC vector extensions): each lane the same
+// conversion, min, max, difference, product and sum as the scalar code. With AVX2 a point's
+// four doubles are one register and one conversion; the baseline clone splits them in halves.
+using F4 = float __attribute__((vector_size(16)));
+using D4 = double __attribute__((vector_size(32)));
+using D2 = double __attribute__((vector_size(16)));
+using I4 = long long __attribute__((vector_size(32)));
+struct Sums
+{
+  F4 lo, hi, centroid;
+  D4 m;    // (xx, yy, zx, zz)
+  D2 mxy;  // (xy, yz)
+};
+RC_SIMD_CLONES void primitiveSums(const std::uint32_t* __restrict sp, std::uint32_t ng, std::uint32_t np,
+                                  const double* __restrict gx, const double* __restrict gy,
+                                  const double* __restrict gz, Sums& out)
+{
+  // (a macro: a lambda returning a 32-byte vector changes the ABI without AVX, -Wpsabi)
+#define RC_XYZZ(p) (D4{gx[p], gy[p], gz[p], gz[p]})
+  F4 lo = __builtin_convertvector(RC_XYZZ(sp[0]), F4), hi = lo, sum = F4{0, 0, 0, 0};
+  for (std::uint32_t k = 0; k < ng; ++k)
+  {
+    const F4 v = __builtin_convertvector(RC_XYZZ(sp[k]), F4);
+    lo = v < lo ? v : lo;  // std::min(lo, v), lane by lane
+    hi = hi < v ? v : hi;  // std::max(hi, v)
+    sum += v;
+  }
+  for (std::uint32_t k = ng; k < np; ++k) sum += __builtin_convertvector(RC_XYZZ(sp[k]), F4);  // duplicates
+  const auto fn = static_cast<float>(np);
+  const F4 centroid = sum / F4{fn, fn, fn, fn};
+  const D4 c = __builtin_convertvector(centroid, D4);
+  const D4 cz = D4{c[0], c[1], c[2], c[2]};
+  D4 m = D4{0, 0, 0, 0};
+  D2 mxy = D2{0, 0};
+  for (std::uint32_t k = 0; k < np; ++k)
+  {
+    const D4 d = RC_XYZZ(sp[k]) - cz;  // (dx, dy, dz, dz)
+    m += d * __builtin_shuffle(d, I4{0, 1, 0, 3});  // (dx dx, dy dy, dz dx, dz dz)
+    mxy += __builtin_shufflevector(d, d, 0, 1) * __builtin_shufflevector(d, d, 1, 2);  // (dx dy, dy dz)
+  }
+#undef RC_XYZZ
+  out.lo = lo;
+  out.hi = hi;
+  out.centroid = centroid;
+  out.m = m;
+  out.mxy = mxy;
+}
+
 inline std::uint32_t find(std::uint32_t* parent, std::uint32_t a)
 {
   while (parent[a] != a)
@@ -337,62 +398,18 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     slot_pos[slot] = static_cast<std::uint32_t>(grid_pos[dups[k]]);
   }
 
-  // Box, centroid, moments and axes, primitive by primitive. All sums run over the points in
-  // the order of the primitive's indices, one point at a time, so they are bit for bit those
-  // of the per-point accumulation they replace:
-  // - box and centroid sum in float: Eigen's cwiseMin(box, v) is std::min(box, v) per
-  //   coordinate. The first point starts the box; a duplicate repeats an earlier point's
-  //   coordinates, so it would leave the box as it is and goes to the sum only. (Converting
-  //   here rather than keeping float copies from the fill: the moments read the same doubles
-  //   right after, while a copy was 16 more bytes a point to write and read, which cost on the
-  //   large clouds.)
-  // - second moments about the float centroid cast to double. Only the six distinct entries
-  //   are summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the matrix
-  //   is filled from them once per primitive.
-  // A point's x, y, z (and a copy of z, unused) go through the box and centroid in one float
-  // vector (GCC / Clang vector extensions): each lane the same conversion, min, max and sum as
-  // the scalar code, in half its instructions (with the moments below, -10 % of the stage's
-  // instructions on the VLP-16 frames).
-  using F4 = float __attribute__((vector_size(16)));
-  using D4 = double __attribute__((vector_size(32)));  // converted as two halves without AVX
-  const auto point = [gx, gy, gz](std::uint32_t p) {
-    return __builtin_convertvector((D4{gx[p], gy[p], gz[p], gz[p]}), F4);
-  };
+  // Box, centroid, moments and axes, primitive by primitive (primitiveSums, above, for the sums)
   for (auto& pr : out.primitives)
   {
-    const std::uint32_t* const sp = slot_pos + pr.first;
-    const std::uint32_t np = pr.num_points;
-    F4 lo = point(sp[0]), hi = lo, sum = F4{0, 0, 0, 0};
-    const std::uint32_t ng = grid_size[pr.id];
-    for (std::uint32_t k = 0; k < ng; ++k)
-    {
-      const F4 v = point(sp[k]);
-      lo = v < lo ? v : lo;  // std::min(lo, v), lane by lane
-      hi = hi < v ? v : hi;  // std::max(hi, v)
-      sum += v;
-    }
-    for (std::uint32_t k = ng; k < np; ++k) sum += point(sp[k]);  // duplicates
-    pr.bbox_min = Eigen::Vector3f(lo[0], lo[1], lo[2]);
-    pr.bbox_max = Eigen::Vector3f(hi[0], hi[1], hi[2]);
-    pr.centroid = Eigen::Vector3f(sum[0], sum[1], sum[2]);
-    pr.centroid /= static_cast<float>(np);
+    Sums S;
+    primitiveSums(slot_pos + pr.first, grid_size[pr.id], pr.num_points, gx, gy, gz, S);
+    pr.bbox_min = Eigen::Vector3f(S.lo[0], S.lo[1], S.lo[2]);
+    pr.bbox_max = Eigen::Vector3f(S.hi[0], S.hi[1], S.hi[2]);
+    pr.centroid = Eigen::Vector3f(S.centroid[0], S.centroid[1], S.centroid[2]);
     const Eigen::Vector3d c = pr.centroid.cast<double>();
-    // The six entries as three Array2d sums, (dx dx, dy dy), (dx dy, dy dz) and (dz dx, dz dz):
-    // three products and sums a point instead of four and four; each lane the same operations
-    // as the scalar entry (a product of two doubles does not depend on their order).
-    const Eigen::Array2d cxy(c.x(), c.y()), czz(c.z(), c.z());
-    Eigen::Array2d m0 = Eigen::Array2d::Zero(), m1 = Eigen::Array2d::Zero(), m2 = Eigen::Array2d::Zero();
-    for (std::uint32_t k = 0; k < np; ++k)
-    {
-      const std::uint32_t p = sp[k];
-      const Eigen::Array2d d = Eigen::Array2d(gx[p], gy[p]) - cxy;
-      const Eigen::Array2d dz = Eigen::Array2d::Constant(gz[p]) - czz;
-      m0 += d * d;
-      m1 += d * Eigen::Array2d(d.y(), dz.x());
-      m2 += dz * Eigen::Array2d(d.x(), dz.y());
-    }
+    const std::uint32_t np = pr.num_points;
     Eigen::Matrix3d cov;
-    cov << m0.x(), m1.x(), m2.x(), m1.x(), m0.y(), m1.y(), m2.x(), m1.y(), m2.y();
+    cov << S.m[0], S.mxy[0], S.m[2], S.mxy[0], S.m[1], S.mxy[1], S.m[2], S.mxy[1], S.m[3];
     cov /= static_cast<double>(np);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);
