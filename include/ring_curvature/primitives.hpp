@@ -41,7 +41,6 @@ public:
   void extract(const ScanGrid& grid, const std::vector<Label>& labels, const Params& params,
                PrimitiveSet& out);
 
-private:
   /// A maximal stretch [begin, end) of one ring whose neighbours all unite (Eq 19-20, same
   /// wanted label): one component without any union-find work per point.
   struct Run
@@ -49,8 +48,11 @@ private:
     std::uint32_t begin, end;
     std::uint32_t rank;  ///< points of its component before it (grid order)
   };
+
+private:
   std::vector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
   std::vector<std::uint32_t> run_;      // start of the run of each grid position
+  std::vector<std::uint32_t> run_end_;  // at each run start: the end of its run
   std::vector<std::uint8_t> join_;      // 1 where a position joins its predecessor's run
   std::vector<Run> runs_;               // the runs of wanted labels, in grid order
   std::vector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1

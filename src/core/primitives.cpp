@@ -121,6 +121,115 @@ inline void unite(std::uint32_t* parent, std::uint32_t a, std::uint32_t b)
   if (a < b) std::swap(a, b);
   parent[a] = b;  // the smaller position is the root: components are numbered in scan order
 }
+inline bool inRange(double ra, double rb, double range_ratio, double range_min)
+{
+  return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
+}
+
+// The loops over a ring below are functions of their own (not inlined): inside extract, with
+// its two dozen pointers and parameters live, the compiler kept the loops' pointers on the
+// stack and reloaded them in the loops.
+
+// Cuts ring [b, e) into runs from join[] (see Run): each run start becomes a root of its own,
+// the runs of wanted labels are listed. Returns the new number of listed runs.
+__attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, const Label* __restrict lab,
+                                              const std::uint8_t* __restrict join, const bool* __restrict want,
+                                              std::uint32_t* __restrict parent, std::uint32_t* __restrict run,
+                                              std::uint32_t* __restrict run_end, std::int32_t* __restrict comp,
+                                              PrimitiveExtractor::Run* __restrict runs, std::size_t num_runs)
+{
+  std::uint32_t s = b;  // start of the current run
+  bool s_wanted = want[static_cast<std::size_t>(lab[b])];
+  parent[b] = b;
+  comp[b] = 0;  // a component's size is counted at its root, a run start
+  run[b] = b;
+  for (std::uint32_t p = b + 1; p < e; ++p)
+  {
+    if (!join[p])
+    {
+      if (s_wanted) runs[num_runs++] = {s, p, 0};
+      run_end[s] = p;
+      s = p;
+      s_wanted = want[static_cast<std::size_t>(lab[p])];
+      parent[p] = p;
+      comp[p] = 0;
+    }
+    run[p] = s;
+  }
+  if (s_wanted) runs[num_runs++] = {s, e, 0};
+  run_end[s] = e;
+  return num_runs;
+}
+
+// Vertical neighbours of ring n-1 [a, b) in ring n [b, e): the nearest sample in azimuth, or
+// one beside it, within Eq 19. Neighbouring runs meet many times over: the last pair of runs
+// united is remembered, and the same pair again needs no find(). (m: no run starts there.)
+RC_SIMD_CLONES __attribute__((noinline)) void verticalUnions(std::uint32_t a, std::uint32_t b, std::uint32_t e,
+                                              const Label* __restrict lab, const std::int32_t* __restrict up,
+                                              const double* __restrict range, const float* __restrict azimuth,
+                                              const bool* __restrict want, bool organized, double range_ratio,
+                                              double range_min, float az_tol, std::uint32_t m,
+                                              const std::uint32_t* __restrict run,
+                                              const std::uint32_t* __restrict run_end, std::uint32_t* parent)
+{
+  std::uint32_t last_rp = m, last_rq = m;
+  const double half = range_ratio * 0.5;  // inRange's range_ratio * 0.5 * (ra + rb), left to right
+  const D4 half_ratio = D4{half, half, half, half}, min4 = D4{range_min, range_min, range_min, range_min};
+  const I4 abs_mask = I4{0, 0, 0, 0} + 0x7fffffffffffffffLL;
+  for (std::uint32_t p = a; p < b; ++p)
+  {
+    const Label l = lab[p];
+    if (!(want[static_cast<std::size_t>(l)] & (up[p] >= 0))) continue;  // one branch for the two tests
+    const auto uu = static_cast<std::uint32_t>(up[p]);
+    const double ra = range[p];
+    const float aa = azimuth[p];
+    const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
+    // Most positions that find no candidate fail on the range for all three (the ground,
+    // ring to ring): the three range tests first, without branches, and the label and
+    // azimuth tests in order only where one passes.
+    // (Eq 20 for the three in one vector, lane by lane the operations of inRange: fabs as a
+    // cleared sign bit, std::max(t, min) as t < min ? min : t.)
+    const D4 rb = D4{range[uu], range[c1], range[c2], range[c2]}, ra4 = D4{ra, ra, ra, ra};
+    const D4 t = half_ratio * (ra4 + rb);
+    const D4 tol = t < min4 ? min4 : t;
+    const D4 dist = reinterpret_cast<D4>(reinterpret_cast<I4>(ra4 - rb) & abs_mask);
+    const I4 out = dist > tol;  // -1 where out of range
+    if ((out[0] & out[1] & out[2]) != 0) continue;
+    const bool in0 = out[0] == 0, in1 = out[1] == 0, in2 = out[2] == 0;
+    const auto joins = [lab, l, aa, azimuth, az_tol](std::uint32_t q, bool in, bool check_azimuth) {
+      return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
+    };
+    // organized clouds: a column is one firing, beams may have their own azimuth offsets
+    std::uint32_t q = uu;
+    if (!joins(q, in0, !organized))
+    {
+      q = c1;
+      if (!joins(q, in1, true))
+      {
+        q = c2;
+        if (!joins(q, in2, true)) continue;
+      }
+    }
+    const std::uint32_t rp = run[p], rq = run[q];
+    if (rp != last_rp || rq != last_rq)
+    {
+      unite(parent, rp, rq);
+      last_rp = rp;
+      last_rq = rq;
+    }
+    // The next positions of the same run whose candidates all lie in rq's run (no seam
+    // between them) can only unite what is united now: skip them untested. Runs are
+    // contiguous: rp's is [rp, run_end[rp]), and u-1, u, u+1 lie in rq's [rq, qe) when
+    // rq + 1 <= u <= qe - 2 (then also b < u and u + 1 < e): one compare a position, where
+    // reading run[] at u - 1 and u + 1 took two loads and four tests.
+    const std::uint32_t pe = run_end[rp], qe = run_end[rq];
+    if (qe - rq >= 3)
+    {
+      const std::uint32_t u_lo = rq + 1, span = qe - rq - 3;
+      while (p + 1 < pe && static_cast<std::uint32_t>(up[p + 1]) - u_lo <= span) ++p;  // u = -1 wraps: out
+    }
+  }
+}
 }  // namespace
 
 void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& labels, const Params& P,
@@ -133,6 +242,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   out.of_grid.resize(m);
   parent_.resize(m);
   run_.resize(m);
+  run_end_.resize(m);
   runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
   comp_.resize(m + 1);  // comp_[m]: the component of no position (see dup_root_)
   roots_.resize(m);
@@ -164,11 +274,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const double range_min = static_cast<double>(P.proximity_range_min);
   // Proximity of a pair from its ranges and azimuths, in the original order of the operands.
   // Values rather than positions: the loops below keep one side in registers.
-  const auto in_range = [range_ratio, range_min](double ra, double rb) {
-    return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
-  };
-  const auto close = [in_range, az_tol](double ra, float aa, double rb, float ab, bool check_azimuth) {
-    return in_range(ra, rb) && (!check_azimuth || angDiff(aa, ab) <= az_tol);  // Eq 19
+  const auto close = [range_ratio, range_min, az_tol](double ra, float aa, double rb, float ab, bool check_azimuth) {
+    return inRange(ra, rb, range_ratio, range_min) && (!check_azimuth || angDiff(aa, ab) <= az_tol);  // Eq 19
   };
 
   // Unions. Most angular neighbours unite, so each ring is first cut into runs (see Run): a
@@ -177,6 +284,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // before the vertical unions of ring n-1 reach into it (up[] of ring n-1 points into ring n).
   std::uint32_t* const parent = parent_.data();
   std::uint32_t* const run = run_.data();
+  std::uint32_t* const run_end = run_end_.data();
   std::int32_t* const comp = comp_.data();
   Run* const runs = runs_.data();
   std::uint8_t* const join = join_.data();
@@ -187,24 +295,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     if (b < e)
     {
       angularJoins(b, e, lab, linked, range, azimuth, num_wanted, range_ratio, range_min, az_tol, join);
-      std::uint32_t s = b;  // start of the current run
-      bool s_wanted = wanted(lab[b]);
-      parent[b] = b;
-      comp[b] = 0;  // a component's size is counted at its root, a run start
-      run[b] = b;
-      for (std::uint32_t p = b + 1; p < e; ++p)
-      {
-        if (!join[p])
-        {
-          if (s_wanted) runs[num_runs++] = {s, p, 0};
-          s = p;
-          s_wanted = wanted(lab[p]);
-          parent[p] = p;
-          comp[p] = 0;
-        }
-        run[p] = s;
-      }
-      if (s_wanted) runs[num_runs++] = {s, e, 0};
+      num_runs = cutRing(b, e, lab, join, want, parent, run, run_end, comp, runs, num_runs);
     }
     // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
     if (e - b >= 2)
@@ -214,54 +305,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
         parent[run[e - 1]] = b;
     }
     if (n == 0 || up == nullptr) continue;
-    // vertical neighbours of ring n-1 in ring n: the nearest sample in azimuth, or one beside
-    // it, within Eq 19. Neighbouring runs meet many times over: the last pair of runs united
-    // is remembered, and the same pair again needs no find().
-    auto last_rp = static_cast<std::uint32_t>(m), last_rq = last_rp;  // no run starts at m
-    for (std::uint32_t p = ring_begin[n - 1]; p < b; ++p)
-    {
-      const Label l = lab[p];
-      if (!(wanted(l) & (up[p] >= 0))) continue;  // one branch for the two tests, as in the run loop
-      const auto uu = static_cast<std::uint32_t>(up[p]);
-      const double ra = range[p];
-      const float aa = azimuth[p];
-      const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
-      // Most positions that find no candidate fail on the range for all three (the ground,
-      // ring to ring): the three range tests first, without branches, and the label and
-      // azimuth tests in order only where one passes.
-      const bool in0 = in_range(ra, range[uu]), in1 = in_range(ra, range[c1]), in2 = in_range(ra, range[c2]);
-      if (!(in0 | in1 | in2)) continue;
-      const auto joins = [lab, l, aa, azimuth, az_tol](std::uint32_t q, bool in, bool check_azimuth) {
-        return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
-      };
-      // organized clouds: a column is one firing, beams may have their own azimuth offsets
-      std::uint32_t q = uu;
-      if (!joins(q, in0, !organized))
-      {
-        q = c1;
-        if (!joins(q, in1, true))
-        {
-          q = c2;
-          if (!joins(q, in2, true)) continue;
-        }
-      }
-      const std::uint32_t rp = run[p], rq = run[q];
-      if (rp != last_rp || rq != last_rq)
-      {
-        unite(parent, rp, rq);
-        last_rp = rp;
-        last_rq = rq;
-      }
-      // The next positions of the same run whose candidates all lie in rq's run (no seam
-      // between them) can only unite what is united now: skip them untested.
-      while (p + 1 < b && run[p + 1] == rp)
-      {
-        const std::int32_t u = up[p + 1];
-        if ((u <= static_cast<std::int32_t>(b)) | (u + 1 >= static_cast<std::int32_t>(e))) break;
-        if ((run[u - 1] != rq) | (run[u + 1] != rq)) break;  // a run is contiguous: run[u] is rq too
-        ++p;
-      }
-    }
+    verticalUnions(ring_begin[n - 1], b, e, lab, up, range, azimuth, want, organized, range_ratio, range_min,
+                   az_tol, static_cast<std::uint32_t>(m), run, run_end, parent);
   }
 
   // Component sizes, run by run. A root is the smallest position of its component (see unite),
