@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ring_curvature/features.hpp"
+#include "ring_curvature/uninitialized_vector.hpp"
 
 namespace ring_curvature
 {
@@ -50,17 +51,19 @@ public:
   };
 
 private:
-  std::vector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
-  std::vector<std::uint32_t> run_;      // start of the run of each grid position
-  std::vector<std::uint32_t> run_end_;  // at each run start: the end of its run
-  std::vector<std::uint8_t> join_;      // 1 where a position joins its predecessor's run
-  std::vector<Run> runs_;               // the runs of wanted labels, in grid order
-  std::vector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
-  std::vector<std::uint32_t> roots_;    // the roots, in grid order
-  std::vector<std::uint32_t> grid_size_; // grid points per root, then per primitive id
-  std::vector<std::uint32_t> dup_root_; // root of each duplicate's component, or m
-  std::vector<std::uint32_t> dup_rank_; // points of that component before the duplicate
-  std::vector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
+  // Scratch, every entry written before it is read: a resize need not zero-fill what exceeds
+  // the last frame's size (std::vector's did, for several arrays a frame as sizes vary).
+  UninitializedVector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
+  UninitializedVector<std::uint32_t> run_;      // start of the run of each grid position
+  UninitializedVector<std::uint32_t> run_end_;  // at each run start: the end of its run
+  UninitializedVector<std::uint8_t> join_;      // 1 where a position joins its predecessor's run
+  UninitializedVector<Run> runs_;               // the runs of wanted labels, in grid order
+  UninitializedVector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
+  UninitializedVector<std::uint32_t> roots_;    // the roots, in grid order
+  UninitializedVector<std::uint32_t> grid_size_; // grid points per root, then per primitive id
+  UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component, or m
+  UninitializedVector<std::uint32_t> dup_rank_; // points of that component before the duplicate
+  UninitializedVector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
 };
 
 }  // namespace ring_curvature
