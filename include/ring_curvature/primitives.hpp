@@ -61,7 +61,7 @@ private:
   UninitializedVector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
   UninitializedVector<std::uint32_t> roots_;    // the roots, in grid order
   UninitializedVector<std::uint32_t> grid_size_; // grid points per root, then per primitive id
-  UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component, or m
+  UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component (a run of its own if unwanted)
   UninitializedVector<std::uint32_t> dup_rank_; // points of that component before the duplicate
   UninitializedVector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
 };

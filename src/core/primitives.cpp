@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace ring_curvature
 {
@@ -132,6 +133,7 @@ inline bool inRange(double ra, double rb, double range_ratio, double range_min)
 
 // Cuts ring [b, e) into runs from join[] (see Run): each run start becomes a root of its own,
 // the runs of wanted labels are listed. Returns the new number of listed runs.
+template <bool kMarkUnwanted>
 __attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, const Label* __restrict lab,
                                               const std::uint8_t* __restrict join, const bool* __restrict want,
                                               std::uint32_t* __restrict parent, std::uint32_t* __restrict run,
@@ -141,7 +143,12 @@ __attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, 
   std::uint32_t s = b;  // start of the current run
   bool s_wanted = want[static_cast<std::size_t>(lab[b])];
   parent[b] = b;
-  comp[b] = 0;  // a component's size is counted at its root, a run start
+  // A component's size is counted at its root, a run start. With duplicates (kMarkUnwanted), a
+  // run of an unwanted label, a root of its own, starts far below zero: a duplicate there
+  // counts without a test and its component reads as rejected (negative). (Without, the
+  // select costs more than it saves.)
+  constexpr std::int32_t kUnwanted = kMarkUnwanted ? std::numeric_limits<std::int32_t>::min() : 0;
+  comp[b] = s_wanted ? 0 : kUnwanted;
   run[b] = b;
   for (std::uint32_t p = b + 1; p < e; ++p)
   {
@@ -152,7 +159,7 @@ __attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, 
       s = p;
       s_wanted = want[static_cast<std::size_t>(lab[p])];
       parent[p] = p;
-      comp[p] = 0;
+      comp[p] = s_wanted ? 0 : kUnwanted;
     }
     run[p] = s;
   }
@@ -244,7 +251,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   run_.resize(m);
   run_end_.resize(m);
   runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
-  comp_.resize(m + 1);  // comp_[m]: the component of no position (see dup_root_)
+  comp_.resize(m);
   roots_.resize(m);
   grid_size_.resize(m);
   join_.resize(m);
@@ -295,7 +302,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     if (b < e)
     {
       angularJoins(b, e, lab, linked, range, azimuth, num_wanted, range_ratio, range_min, az_tol, join);
-      num_runs = cutRing(b, e, lab, join, want, parent, run, run_end, comp, runs, num_runs);
+      num_runs = g.duplicates.empty() ? cutRing<false>(b, e, lab, join, want, parent, run, run_end, comp, runs, num_runs)
+                                      : cutRing<true>(b, e, lab, join, want, parent, run, run_end, comp, runs, num_runs);
     }
     // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
     if (e - b >= 2)
@@ -338,16 +346,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   dup_rank_.resize(num_dups);
   std::uint32_t* const dup_root = dup_root_.data();
   std::uint32_t* const dup_rank = dup_rank_.data();
-  comp[m] = -1;
   for (std::size_t k = 0; k < num_dups; ++k)
   {
     const auto pos = static_cast<std::size_t>(grid_pos[dups[k]]);
-    if (!wanted(lab[pos]))
-    {
-      dup_root[k] = static_cast<std::uint32_t>(m);
-      continue;
-    }
-    const std::uint32_t r = parent[run[pos]];
+    const std::uint32_t r = parent[run[pos]];  // an unwanted label's run: comp[r] stays negative
     dup_root[k] = r;
     dup_rank[k] = static_cast<std::uint32_t>(comp[r]++);
   }
