@@ -93,7 +93,7 @@ RC_SIMD_CLONES void primitiveSums(const std::uint32_t* __restrict sp, std::uint3
   for (std::uint32_t k = 0; k < np; ++k)
   {
     const D4 d = RC_XYZZ(sp[k]) - cz;  // (dx, dy, dz, dz)
-    m += d * __builtin_shuffle(d, I4{0, 1, 0, 3});  // (dx dx, dy dy, dz dx, dz dz)
+    m += d * __builtin_shufflevector(d, d, 0, 1, 0, 3);  // (dx dx, dy dy, dz dx, dz dz)
     mxy += __builtin_shufflevector(d, d, 0, 1) * __builtin_shufflevector(d, d, 1, 2);  // (dx dy, dy dz)
   }
 #undef RC_XYZZ

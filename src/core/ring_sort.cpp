@@ -37,7 +37,7 @@ RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, s
   {
     const float d = keyAzimuth(src[j]) - keyAzimuth(src[j - 1]);
     step[j] = d;
-    wide[j] = (d < -kPi) | (d > kPi) ? 1 : 0;
+    wide[j] = ((d < -kPi) | (d > kPi)) ? 1 : 0;
     down += d < 0.0f ? 1u : 0u;
   }
   return down;

@@ -277,7 +277,12 @@ __attribute__((always_inline)) inline void appendLanes(const V8f& v, std::uint32
 {
   V8i lane;
   std::memcpy(&lane, kCompress.lane[mask], sizeof lane);
+#if defined(__clang__)  // (the sanitizer and fuzz builds): no variable shuffle builtin, lane by lane
+  V8f packed;
+  for (int j = 0; j < 8; ++j) packed[j] = v[lane[j]];
+#else
   const V8f packed = __builtin_shuffle(v, lane);
+#endif
   std::memcpy(out + m, &packed, sizeof packed);
   m += static_cast<std::size_t>(__builtin_popcount(mask));
 }
@@ -295,9 +300,9 @@ __attribute__((always_inline)) inline std::size_t appendGroups(std::size_t i, st
     group(i, a, in_a);
     group(i + 8, b, in_b);
     V8i s = (in_a & bit) | (in_b & (bit << 8));  // the masks' bits, summed across the lanes
-    s += __builtin_shuffle(s, V8i{4, 5, 6, 7, 0, 1, 2, 3});
-    s += __builtin_shuffle(s, V8i{2, 3, 0, 1, 6, 7, 4, 5});
-    s += __builtin_shuffle(s, V8i{1, 0, 3, 2, 5, 4, 7, 6});
+    s += __builtin_shufflevector(s, s, 4, 5, 6, 7, 0, 1, 2, 3);
+    s += __builtin_shufflevector(s, s, 2, 3, 0, 1, 6, 7, 4, 5);
+    s += __builtin_shufflevector(s, s, 1, 0, 3, 2, 5, 4, 7, 6);
     const auto mask = static_cast<std::uint32_t>(s[0]);
     appendLanes(a, mask & 0xFFu, out, m);
     appendLanes(b, mask >> 8, out, m);
@@ -308,9 +313,9 @@ __attribute__((always_inline)) inline std::size_t appendGroups(std::size_t i, st
     V8i in_a;
     group(i, a, in_a);
     V8i s = in_a & bit;
-    s += __builtin_shuffle(s, V8i{4, 5, 6, 7, 0, 1, 2, 3});
-    s += __builtin_shuffle(s, V8i{2, 3, 0, 1, 6, 7, 4, 5});
-    s += __builtin_shuffle(s, V8i{1, 0, 3, 2, 5, 4, 7, 6});
+    s += __builtin_shufflevector(s, s, 4, 5, 6, 7, 0, 1, 2, 3);
+    s += __builtin_shufflevector(s, s, 2, 3, 0, 1, 6, 7, 4, 5);
+    s += __builtin_shufflevector(s, s, 1, 0, 3, 2, 5, 4, 7, 6);
     appendLanes(a, static_cast<std::uint32_t>(s[0]), out, m);
   }
   return i;
