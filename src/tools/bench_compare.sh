@@ -1,23 +1,35 @@
 #!/usr/bin/env bash
 # Side-by-side timing of two builds of the core on a shared, noisy machine: runs the "before"
 # and "after" benchmark binaries alternately (ABAB...) so that both see the same load, and
-# prints each run's last line, then the median of pipeline_ms per side.
+# prints each run's last line, then per side the median over the runs of each stage's median
+# and of pipeline_ms.
 # usage: bench_compare.sh BEFORE_DIR AFTER_DIR BAG [ROUNDS] [extra benchmark args]
 #   *_DIR holds `benchmark` and the libring_curvature_core.so it should load (copied out of a
 #   workspace's devel/lib: the binary's RUNPATH yields to LD_LIBRARY_PATH).
 set -euo pipefail
 before=$1 after=$2 bag=$3 rounds=${4:-5}
 shift $(( $# < 4 ? $# : 4 ))
-declare -A ms=([before]="" [after]="")
+runs=$(mktemp)
+trap 'rm -f "$runs"' EXIT
 for ((i = 0; i < rounds; i++)); do
   for side in before after; do
     dir=${!side}
-    line=$(LD_LIBRARY_PATH="$dir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "$dir/benchmark" --bag "$bag" "$@" | tail -n 1)
-    echo "$side: $line"
-    ms[$side]+="$(sed -nE 's/.*pipeline_ms=([0-9.]+).*/\1/p' <<<"$line") "
+    out=$(LD_LIBRARY_PATH="$dir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "$dir/benchmark" --bag "$bag" "$@")
+    echo "$side: $(tail -n 1 <<<"$out")"
+    # "side stage median" for the stage table's rows, and the pipeline from the last line
+    awk -v s="$side" '/^  (grid|features|thresholds|classification|primitives|output) /{print s, $1, $2}
+      /^frames=/{for (k = 1; k <= NF; ++k) if ($k ~ /^pipeline_ms=/) {sub("pipeline_ms=", "", $k); print s, "pipeline", $k}}' \
+      <<<"$out" >> "$runs"
   done
 done
-for side in before after; do
-  printf '%s median pipeline_ms over %d runs: ' "$side" "$rounds"
-  tr ' ' '\n' <<<"${ms[$side]}" | grep . | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'
-done
+python3 - "$runs" "$rounds" <<'PY'
+import collections, statistics, sys
+v = collections.defaultdict(list)
+for line in open(sys.argv[1]):
+    side, stage, ms = line.split()
+    v[(stage, side)].append(float(ms))
+print("median over %s runs [ms]   before     after" % sys.argv[2])
+for stage in ["grid", "features", "thresholds", "classification", "primitives", "output", "pipeline"]:
+    if (stage, "before") in v:
+        print("  %-22s %9.3f %9.3f" % (stage, statistics.median(v[(stage, "before")]), statistics.median(v[(stage, "after")])))
+PY
