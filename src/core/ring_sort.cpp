@@ -16,9 +16,10 @@ namespace
 constexpr float kPi = 3.14159265358979f;
 constexpr float kTwoPi = 6.28318530717959f;
 
-// The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0 azimuth is made +0
-// first, so equal floats give equal keys), with the input index below: one 64-bit comparison is
-// the order (azimuth, input index) exactly, and the sorts move one register-sized value.
+// The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0
+// azimuth is made +0 first, so equal floats give equal keys), with the input index below: one
+// 64-bit comparison is the order (azimuth, input index) exactly, and the sorts move one
+// register-sized value.
 inline std::uint32_t azimuthKey(float azimuth) { return detail::orderedKey(azimuth + 0.0f); }
 inline float keyAzimuth(std::uint64_t key)
 {
