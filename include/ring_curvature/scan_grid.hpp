@@ -103,7 +103,7 @@ private:
   std::vector<std::uint32_t> ring_count_;  // [0]: invalid points, [r + 1]: valid points of ring r
   std::vector<double> prange_;
   std::vector<float> paz_;
-  UninitializedVector<float> px_, py_, pz_;  // organized float32 clouds: each point's coordinates
+  UninitializedVector<float> px_, py_, pz_;  // each point's coordinates as float32
   // scratch, per ring / bin
   std::vector<std::uint32_t> counts_, bin_start_;
   std::vector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
@@ -116,7 +116,7 @@ private:
   std::size_t num_followers_ = 0;
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
-  std::vector<float> tmp_f_;  // y before the azimuths; elevations; kept azimuth spacings
+  std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
   std::vector<float> inside_;  // the spacings near the median (medianSpacing)
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position
 };

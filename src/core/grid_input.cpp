@@ -19,13 +19,16 @@ namespace
 constexpr float kPi = 3.14159265358979f;
 
 // The input pass's entries for point i: its range decides validity (NaN and inf fail both
-// comparisons); the entries of invalid points are written too (x / y then hold values nothing
-// reads). Shared by the vectorized reader below and the generic loop of readPoints.
+// comparisons); the entries of invalid points are written too (x / y / z then hold values
+// nothing reads). Shared by the vectorized reader below and the generic loop of readPoints.
+// x, y, z as float32 feed the azimuths and, for float32 clouds, the grid's coordinates (see
+// ScanGridBuilder::build).
 struct PointEntries
 {
   double* range;
   float* x;
   float* y;
+  float* z;
   std::int32_t* ring;
   PointState* state;
   std::int32_t* grid_pos;
@@ -38,6 +41,7 @@ inline void storePoint(const PointEntries& out, std::size_t i, double x, double 
   out.range[i] = range;
   out.x[i] = static_cast<float>(x);
   out.y[i] = static_cast<float>(y);
+  out.z[i] = static_cast<float>(z);
   out.ring[i] = valid ? ring : -1;
   out.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
   out.grid_pos[i] = -1;
@@ -54,10 +58,10 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
                                             std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
                                             bool has_ring, std::int32_t fixed_ring, double rmin, double rmax,
                                             double* __restrict range_out, float* __restrict px, float* __restrict py,
-                                            std::int32_t* __restrict ring_out, PointState* __restrict state,
-                                            std::int32_t* __restrict grid_pos)
+                                            float* __restrict pz, std::int32_t* __restrict ring_out,
+                                            PointState* __restrict state, std::int32_t* __restrict grid_pos)
 {
-  const PointEntries out{range_out, px, py, ring_out, state, grid_pos};
+  const PointEntries out{range_out, px, py, pz, ring_out, state, grid_pos};
   std::uint32_t max_read = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -72,32 +76,8 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
   return max_read;
 }
 
-// An organized cloud's row of float32 records (the row is the ring): like readXyzRecords, and it
-// keeps z too, so that the grid's coordinates come from these compact arrays rather than from a
-// second pass over the records (48 bytes a point for an ouster, where the pass was bound by
-// memory).
-RC_SIMD_CLONES void readXyzRow(const std::uint8_t* __restrict data, std::size_t n, std::size_t step, std::size_t ox,
-                               std::size_t oy, std::size_t oz, std::int32_t ring, double rmin, double rmax,
-                               double* __restrict range_out, float* __restrict px, float* __restrict py,
-                               float* __restrict pz, std::int32_t* __restrict ring_out, PointState* __restrict state,
-                               std::int32_t* __restrict grid_pos)
-{
-  const PointEntries out{range_out, px, py, ring_out, state, grid_pos};
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::uint8_t* const rec = data + i * step;
-    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
-    pz[i] = fz;
-    storePoint(out, i, fx, fy, fz, ring, rmin, rmax);
-  }
-}
-
 // Azimuths of every point at once (fastAtan2 is branch-free: 4 or 8 at a time).
-RC_SIMD_CLONES void azimuths(std::size_t n, float* __restrict x_then_azimuth, const float* __restrict y)
-{
-  for (std::size_t i = 0; i < n; ++i) x_then_azimuth[i] = fastAtan2(y[i], x_then_azimuth[i]);
-}
-RC_SIMD_CLONES void azimuthsOf(std::size_t n, const float* __restrict x, const float* __restrict y,
+RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const float* __restrict y,
                                float* __restrict azimuth)
 {
   for (std::size_t i = 0; i < n; ++i) azimuth[i] = fastAtan2(y[i], x[i]);
@@ -114,7 +94,9 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   ring_of_.resize(n);
   prange_.resize(n);
   paz_.resize(n);
-  tmp_f_.resize(n);  // y of each point until the azimuths are computed (paz_ holds x)
+  px_.resize(n);
+  py_.resize(n);
+  pz_.resize(n);
   const double rmin = params.min_range, rmax = params.max_range;
   const auto ringError = [&](std::size_t i, std::int64_t r) {
     std::ostringstream s;
@@ -128,7 +110,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     const std::uint32_t max_read = readXyzRecords(
         view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
         static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), true, 0, rmin, rmax,
-        prange_.data(), paz_.data(), tmp_f_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
+        prange_.data(), px_.data(), py_.data(), pz_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
     if (max_read >= static_cast<std::uint32_t>(params.max_rings))
     {
       for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
@@ -142,17 +124,15 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   else if (fast && view.organized())
   {
     // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
-    px_.resize(n);
-    py_.resize(n);
-    pz_.resize(n);
     for (std::uint32_t row = 0; row < view.height; ++row)
     {
       const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
       const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
-      readXyzRow(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
-                 static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
-                 static_cast<std::int32_t>(row), rmin, rmax, prange_.data() + i0, px_.data() + i0, py_.data() + i0,
-                 pz_.data() + i0, ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
+      readXyzRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
+                     static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
+                     static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
+                     prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, ring_of_.data() + i0,
+                     grid.state.data() + i0, grid.grid_pos.data() + i0);
       if (!view.ring.present()) continue;
       const std::uint8_t* rec = data + view.ring.offset;
       if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
@@ -176,8 +156,8 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   }
   else
   {
-    const PointEntries entries{prange_.data(), paz_.data(), tmp_f_.data(), ring_of_.data(), grid.state.data(),
-                               grid.grid_pos.data()};
+    const PointEntries entries{prange_.data(), px_.data(), py_.data(), pz_.data(),
+                               ring_of_.data(), grid.state.data(), grid.grid_pos.data()};
     for (std::uint32_t row = 0; row < view.height; ++row)
     {
       const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
@@ -220,10 +200,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   int max_ring = -1;
   for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
     if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
-  if (fast && view.organized())
-    azimuthsOf(n, px_.data(), py_.data(), paz_.data());  // x, y and z stay for the grid's gather
-  else
-    azimuths(n, paz_.data(), tmp_f_.data());
+  azimuths(n, px_.data(), py_.data(), paz_.data());
   grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
   return Status::success();
 }

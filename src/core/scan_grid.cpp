@@ -29,23 +29,6 @@ float wrapPi(float a)
   return a;
 }
 
-// Grid coordinates from the input records in grid order (float32 widens to double exactly): a
-// gather, vectorized on AVX2.
-RC_SIMD_CLONES void gatherXyz(const std::uint8_t* __restrict data, std::size_t m, std::size_t step, std::size_t ox,
-                              std::size_t oy, std::size_t oz, const std::uint32_t* __restrict index,
-                              const double* __restrict prange, double* __restrict gx, double* __restrict gy,
-                              double* __restrict gz, double* __restrict gr)
-{
-  for (std::size_t p = 0; p < m; ++p)
-  {
-    const std::uint8_t* const rec = data + static_cast<std::size_t>(index[p]) * step;
-    gx[p] = readFloat32(rec + ox);
-    gy[p] = readFloat32(rec + oy);
-    gz[p] = readFloat32(rec + oz);
-    gr[p] = prange[index[p]];
-  }
-}
-
 // The spacings |wrapPi(az[p] - az[p - 1])| of a ring (b, e) to out[0, e - b - 1); organized
 // clouds per column between the two samples.
 RC_SIMD_CLONES void azimuthSpacings(std::size_t b, std::size_t e, const float* __restrict az, float* __restrict out)
@@ -59,12 +42,12 @@ RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __
     out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(column[p] - column[p - 1]);
 }
 
-// The same from the input pass's float copies (organized clouds: grid order is input order, so
-// these reads stream).
-RC_SIMD_CLONES void gatherCompact(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
-                                  const float* __restrict py, const float* __restrict pz,
-                                  const double* __restrict prange, double* __restrict gx, double* __restrict gy,
-                                  double* __restrict gz, double* __restrict gr)
+// Grid coordinates in grid order from the input pass's float32 copies (float32 widens to double
+// exactly), a gather that vectorizes on AVX2.
+RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
+                              const float* __restrict py, const float* __restrict pz, const double* __restrict prange,
+                              double* __restrict gx, double* __restrict gy, double* __restrict gz,
+                              double* __restrict gr)
 {
   for (std::size_t p = 0; p < m; ++p)
   {
@@ -132,11 +115,12 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   measureResolution(params, grid);
   if (!view.organized()) removeDuplicates(params, grid);
 
-  // Gather the structure-of-arrays grid in final order. x, y, z are read from the input records
-  // themselves (one cache line per point) instead of from per-input scratch copies: those were
-  // three more arrays written per input point and read back at random here. The values are the
-  // same (float32 widens to double exactly; float64 is copied). The sorted order and azimuths
-  // become the grid's by a swap (the scratch takes the grid's old buffers: no copy, no allocation).
+  // Gather the structure-of-arrays grid in final order. For float32 clouds x, y, z come from
+  // the input pass's float copies: 12 bytes a point, where the records are 22 (velodyne) or 48
+  // (ouster) and were read a second time here; the values are the same (float32 widens to double
+  // exactly). Other clouds are read from their records (float64 keeps its precision). The sorted
+  // order and azimuths become the grid's by a swap (the scratch takes the grid's old buffers: no
+  // copy, no allocation).
   const std::size_t m = tmp_index_.size();
   grid.index.swap(tmp_index_);
   grid.azimuth.swap(sorted_az_);
@@ -158,15 +142,9 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   const std::uint32_t* const index = grid.index.data();
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  if (fast && view.organized())
+  if (fast)
   {
-    gatherCompact(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);  // see readPoints
-  }
-  else if (fast && view.height == 1)
-  {
-    gatherXyz(view.data, m, view.point_step, static_cast<std::size_t>(view.x.offset),
-              static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset), index,
-              prange_.data(), gx, gy, gz, gr);
+    gatherXyz(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
   }
   else
   {
