@@ -35,5 +35,7 @@ private:
 
 /// Value at quantile q of v[0..n) by O(n) selection (v is reordered). NaN when n == 0.
 float selectQuantile(float* v, std::size_t n, double q);
+/// Value of rank k (0-based, k < n) of v[0..n) by the same selection (v is reordered).
+float selectNth(float* v, std::size_t n, std::size_t k);
 
 }  // namespace ring_curvature

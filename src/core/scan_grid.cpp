@@ -7,7 +7,7 @@
 #include "record_read.hpp"
 #include "simd_clones.hpp"
 
-#include "ring_curvature/classifier.hpp"  // selectQuantile
+#include "ring_curvature/classifier.hpp"  // selectNth
 
 #include <algorithm>
 #include <cmath>
@@ -287,14 +287,10 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
 float ScanGridBuilder::medianSpacing(float* v, std::size_t n)
 {
   // The element of rank k = n / 2 by the classifier's radix selection (nth_element over every
-  // spacing of the frame was 4 % of a frame): floor(q (n - 1)) = r selects rank r.
-  const auto select = [](float* c, std::size_t m, std::size_t r) {
-    const double q = m > 1 ? (static_cast<double>(r) + 0.5) / static_cast<double>(m - 1) : 0.0;
-    return selectQuantile(c, m, q);
-  };
+  // spacing of the frame was 4 % of a frame).
   const std::size_t k = n / 2;
   constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
-  if (n < 8 * kSample) return select(v, n, k);
+  if (n < 8 * kSample) return selectNth(v, n, k);
   // Most values are about the same spacing, and the radix selection then moves nearly all of
   // them at every digit. So first a bracket [lo, hi] around the median from an even sample,
   // then one pass counts the values below lo and copies out those inside, and the selection
@@ -304,8 +300,8 @@ float ScanGridBuilder::medianSpacing(float* v, std::size_t n)
   const std::size_t stride = n / kSample;
   for (std::size_t j = 0; j < kSample; ++j) sample[j] = v[j * stride];
   // (the radix selection here too: nth_element's comparisons mispredicted ~1500 times a frame)
-  const float lo = select(sample, kSample, kSample / 2 - kSpread);
-  const float hi = select(sample, kSample, kSample / 2 + kSpread);
+  const float lo = selectNth(sample, kSample, kSample / 2 - kSpread);
+  const float hi = selectNth(sample, kSample, kSample / 2 + kSpread);
   if (inside_.size() < n + 1) inside_.resize(n + 1);  // only grows
   float* const in = inside_.data();
   // The spacings are positive, so their bits order like them: one unsigned comparison tells
@@ -319,8 +315,8 @@ float ScanGridBuilder::medianSpacing(float* v, std::size_t n)
     in[m] = v[i];  // overwritten by the next one unless this one is inside
     m += u - lo_bits <= span ? 1 : 0;
   }
-  if (below <= k && k < below + m) return select(in, m, k - below);
-  return select(v, n, k);
+  if (below <= k && k < below + m) return selectNth(in, m, k - below);
+  return selectNth(v, n, k);
 }
 
 void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)

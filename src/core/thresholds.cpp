@@ -125,6 +125,8 @@ float selectQuantile(float* v, std::size_t n, double q)
   return n == 0 ? std::numeric_limits<float>::quiet_NaN() : selectRank(v, n, rankOf(n, q));
 }
 
+float selectNth(float* v, std::size_t n, std::size_t k) { return selectRank(v, n, k); }
+
 namespace
 {
 // The general path, for rings the bins below cannot order (values with the sign bit set).
