@@ -2,6 +2,7 @@
 // no feature reaches across a gap, and a closed ring wraps across the 0/360 deg seam.
 #include "ring_curvature/features.hpp"
 
+#include "grow.hpp"
 #include "simd_clones.hpp"
 
 #include <algorithm>
@@ -256,13 +257,6 @@ inline void storeCurvature(double turn, double len, bool defined, float& turning
   const float kappa = static_cast<float>(turn / len);
   turning = defined ? static_cast<float>(turn) : kNaN;
   curvature = defined & (len > 0) ? kappa : kNaN;
-}
-
-// Ring scratch only grows: resizing down, then up for a larger ring, zero-filled the difference.
-template <class T>
-inline void growTo(std::vector<T>& v, std::size_t n)
-{
-  if (v.size() < n) v.resize(n);
 }
 
 // Per-ring view with circular neighbour access limited to the current run.

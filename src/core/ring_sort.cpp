@@ -3,6 +3,7 @@
 // Identical dual returns are folded on the way and given their twin's verdict afterwards.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "grow.hpp"
 #include "simd_clones.hpp"
 
 #include <algorithm>
@@ -73,7 +74,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    which are in firing order: in this loop, its state went through memory at every point.)
   ring_fold_.assign(R, RingFold{});
   RingFold* const fold = ring_fold_.data();
-  if (followers_.size() < n) followers_.resize(n);  // only grows: no fill per frame
+  growTo(followers_, n);
   Follower* const followers = followers_.data();
   std::size_t num_followers = 0;
   unfolded_largest_ = 0;
@@ -188,8 +189,8 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
   // largest drop and rise are (the first of equals; only steps beyond -pi / pi count). The
   // steps and the count in a loop that vectorizes; the few steps beyond +-pi (the seam, once
   // or twice a ring) are then found eight flags at a time, and compared in order.
-  if (steps_.size() < k) steps_.resize(k);  // only grows
-  if (wide_.size() < k) wide_.resize(k);
+  growTo(steps_, k);
+  growTo(wide_, k);
   const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
   std::uint32_t wrap_fwd = 0, wrap_bwd = 0;
   {

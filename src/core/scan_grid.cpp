@@ -4,6 +4,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "cloud_view_checks.hpp"
+#include "grow.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
 
@@ -302,7 +303,7 @@ float ScanGridBuilder::medianSpacing(float* v, std::size_t n)
   // (the radix selection here too: nth_element's comparisons mispredicted ~1500 times a frame)
   const float lo = selectNth(sample, kSample, kSample / 2 - kSpread);
   const float hi = selectNth(sample, kSample, kSample / 2 + kSpread);
-  if (inside_.size() < n + 1) inside_.resize(n + 1);  // only grows
+  growTo(inside_, n + 1);
   float* const in = inside_.data();
   // The spacings are positive, so their bits order like them: one unsigned comparison tells
   // inside from outside.
