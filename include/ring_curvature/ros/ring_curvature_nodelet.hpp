@@ -30,7 +30,8 @@ struct NodeletStats
   std::size_t frames_received = 0, frames_processed = 0, frames_rejected = 0;
   /// Frames the input queue dropped before the callback saw them. roscpp drops silently, so they
   /// are inferred from gaps in header.seq (ROS 1 publishers number their messages); publishers
-  /// that leave seq constant show 0.
+  /// that leave seq constant show 0. A drop is counted when the next frame arrives; drops just
+  /// before the publisher stops are never seen.
   std::size_t frames_dropped = 0;
   bool have_last_seq = false;  ///< reset on (re)subscription: a lazy pause is not a drop
   std::uint32_t last_seq = 0;
