@@ -74,6 +74,32 @@ RC_SIMD_CLONES void linkColumns(std::size_t b, std::size_t e, const std::uint32_
   for (std::size_t p = b + 1; p < e; ++p) linked[p] = column[p] - column[p - 1] <= max_cols ? 1 : 0;
 }
 
+// The nearest sample above each position p of a ring (b, e), with up[p] the last sample of the
+// ring above (ub, ue) at or before p's azimuth (or ub): of up[p], its successor (around the
+// seam) and the ring's last one, the nearest azimuth circularly, the first of equals in that
+// order. Branch-free: which one wins is a coin toss per point. |wrapPi(d)| for |d| < 2 pi is
+// |d| or 2 pi - |d|, the same float operations.
+RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t ub, std::uint32_t ue,
+                                 const float* __restrict az, std::int32_t* __restrict up)
+{
+  const auto circDist = [](float d) {
+    const float a = std::fabs(d);
+    return a > kPi ? kTwoPi - a : a;
+  };
+  const float last = az[ue - 1];
+  for (std::uint32_t p = b; p < e; ++p)
+  {
+    const float a = az[p];
+    const std::uint32_t q = static_cast<std::uint32_t>(up[p]);
+    const std::uint32_t c1 = q + 1 < ue ? q + 1 : ub;
+    const float d0 = circDist(az[q] - a), d1 = circDist(az[c1] - a), d2 = circDist(last - a);
+    std::uint32_t best = d1 < d0 ? c1 : q;
+    const float bd = d1 < d0 ? d1 : d0;
+    best = d2 < bd ? ue - 1 : best;
+    up[p] = static_cast<std::int32_t>(best);
+  }
+}
+
 }  // namespace
 
 int ScanGrid::ringOf(std::uint32_t pos) const
@@ -417,13 +443,10 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   // Every position of a ring followed by a non-empty one is written below; only the others are
   // filled with -1 (a fill of all of them first wrote every entry twice).
   grid.up.resize(m);
-  // Two sorted sequences: walk them together and take the nearest azimuth (circularly), the
-  // first of equals in the order q, q + 1, last. Branch-free choice: which candidate wins is a
-  // coin toss per point. |wrapPi(d)| for |d| < 2 pi is |d| or 2 pi - |d|, the same float ops.
-  const auto circDist = [](float d) {
-    const float a = std::fabs(d);
-    return a > kPi ? kTwoPi - a : a;
-  };
+  // Two sorted sequences: walk them together to the last sample above at or before each
+  // azimuth, then take the nearest of it, its successor (around the seam) and the last one.
+  // The walk only stores where it stopped (in `up`); the choice is a loop of its own that
+  // vectorizes (nearestAbove): in one loop with the walk it was three times the instructions.
   const float* const az = grid.azimuth.data();
   std::int32_t* const up = grid.up.data();
   for (int n = 0; n + 1 < grid.num_rings; ++n)
@@ -436,18 +459,13 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
       continue;
     }
     std::uint32_t q = ub;
-    const float last = az[ue - 1];
     for (std::uint32_t p = b; p < e; ++p)
     {
       const float a = az[p];
       while (q + 1 < ue && az[q + 1] <= a) ++q;
-      const std::uint32_t c1 = q + 1 < ue ? q + 1 : ub;  // the next one (around the seam)
-      const float d0 = circDist(az[q] - a), d1 = circDist(az[c1] - a), d2 = circDist(last - a);
-      std::uint32_t best = d1 < d0 ? c1 : q;
-      const float bd = d1 < d0 ? d1 : d0;
-      best = d2 < bd ? ue - 1 : best;
-      up[p] = static_cast<std::int32_t>(best);
+      up[p] = static_cast<std::int32_t>(q);
     }
+    nearestAbove(b, e, ub, ue, az, up);
   }
   if (grid.num_rings > 0)  // the top ring has none above it
     std::fill(up + grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1], up + m, -1);
