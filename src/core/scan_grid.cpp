@@ -298,7 +298,7 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     {
       const float d = kept[first + (p - b - 1)];  // (count never passes the reads)
       kept[count] = d;
-      count += (d > 1e-5f) & (d < 5.0f * kDeg) ? 1 : 0;
+      count += ((d > 1e-5f) & (d < 5.0f * kDeg)) ? 1 : 0;
     }
   }
   tmp_f_.resize(count);
