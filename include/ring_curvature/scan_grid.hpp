@@ -112,7 +112,7 @@ private:
   std::vector<RingFold> ring_fold_;
   std::vector<float> steps_;        // one ring's azimuth steps in firing order (sortRing)
   std::vector<std::uint8_t> wide_;  // and where they go beyond +-pi
-  std::vector<Follower> followers_;  // in input order; the first num_followers_ are this frame's
+  std::vector<Follower> followers_;  // the first num_followers_ are this frame's
   std::size_t num_followers_ = 0;
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)

@@ -110,9 +110,11 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     }
     unsorted[nx++] = (static_cast<std::uint64_t>(az_key) << 32) | static_cast<std::uint32_t>(i);
   };
-  // Rings interleaved point by point (velodyne firing order) keep their state in memory; rings
-  // that come one after another (KITTI's, an unorganized ouster's) keep the current ring's in
-  // registers: in memory, each point's state waited on the store of the point before.
+  // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
+  // come, with the current ring's state in registers. Rings interleaved point by point
+  // (velodyne firing order) are first scattered whole, and then each ring is folded in place,
+  // again with its state in registers: folded as they came, every point loaded and stored its
+  // ring's state in memory, which cost more than the second pass.
   std::size_t changes = 0;
   for (std::size_t i = 1; i < n; ++i) changes += ring_of[i] != ring_of[i - 1] ? 1 : 0;
   if (changes > n / 8)
@@ -120,7 +122,20 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     for (std::size_t i = 0; i < n; ++i)
     {
       const std::int32_t r = ring_of[i];
-      if (r >= 0) place(i, fold[r], next[r]);
+      if (r >= 0) unsorted[next[r]++] = (static_cast<std::uint64_t>(azimuthKey(paz[i])) << 32) | i;
+    }
+    if (fold_identical)
+    {
+      for (std::size_t r = 0; r < R; ++r)
+      {
+        // The ring's keys are in input order (the scatter is stable): `place` sees the same
+        // sequence as in the loop below, and writes the kept keys back over the ring's front.
+        RingFold f{};
+        std::uint32_t w = grid.ring_begin[r];
+        for (std::uint32_t j = grid.ring_begin[r]; j < next[r]; ++j)
+          place(keyIndex(unsorted[j]), f, w);
+        next[r] = w;
+      }
     }
   }
   else
@@ -297,7 +312,8 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
 
 void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
 {
-  // Input order: a twin folded itself (two returns, both identical) was resolved before.
+  // Any order: a follower's twin is always a point that was kept (placed on the sort), whose
+  // state removeDuplicates has decided.
   PointState* const state = grid.state.data();
   std::int32_t* const grid_pos = grid.grid_pos.data();
   for (std::size_t k = 0; k < num_followers_; ++k)
