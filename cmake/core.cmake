@@ -7,6 +7,7 @@ add_library(ring_curvature_core
   src/core/ring_sort.cpp
   src/core/cloud_view_checks.cpp
   src/core/features.cpp
+  src/core/smoothness.cpp
   src/core/classifier.cpp
   src/core/thresholds.cpp
   src/core/primitives.cpp

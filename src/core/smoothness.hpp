@@ -1,0 +1,24 @@
+// Smoothness S of Eq 10 along one ring (FeatureComputer::computeRing's last feature), in a file of
+// its own: features.cpp would otherwise outgrow the 600-line limit.
+#pragma once
+
+#include <cstddef>
+
+namespace ring_curvature
+{
+
+/// Entries of the `prefix` scratch that ringSmoothness needs for a ring of K samples.
+inline std::size_t smoothnessScratch(int K, int w, bool closed)
+{
+  return 3 * (static_cast<std::size_t>(K) + 2 * static_cast<std::size_t>(closed ? w : 0) + 1);
+}
+
+/// Smoothness of the K samples of one ring (window of +-w samples, w >= 1) into out[0, K): `rp`
+/// holds the ring's ranges padded with w samples on each side (the neighbours across the seam of
+/// a closed ring), L and R the links free to the left and right of each sample (capped above w),
+/// seg[0, num_seg) the segments between gaps (see computeRing), and `prefix` room for
+/// smoothnessScratch(K, w, closed) values.
+void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const int* L, const int* R,
+                    const int* seg, int num_seg, double* prefix, float* out);
+
+}  // namespace ring_curvature
