@@ -1,4 +1,9 @@
 #include "ring_curvature/pipeline.hpp"
+#include "simd_clones.hpp"
+
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -19,6 +24,94 @@ double msSince(Clock::time_point& t)
   t = now;
   return ms;
 }
+
+// The per-point outputs and where they come from (raw pointers: a label is a byte, and a byte
+// store may alias anything, so through the vectors the compiler reloaded every data pointer after
+// each label store).
+struct OutputArrays
+{
+  const PointState* state;
+  const std::int32_t* grid_pos;
+  const std::uint8_t* label;  // per grid position
+  const float *curvature, *smoothness, *discontinuity;
+  const std::int32_t* primitive;
+  std::uint8_t* out_label;  // per input point
+  float *out_curvature, *out_smoothness, *out_discontinuity;
+  std::int32_t* out_primitive;
+};
+
+// Input points [i0, i1): those on the grid (OnGrid, or Duplicate: their representative's
+// position) gather their grid position's results, the others get none. Walks the input in order:
+// the writes are sequential and every entry is written once, while the reads follow the rings (a
+// few streams per array, cached). Filling the arrays first and then scattering in grid order
+// wrote each entry twice, with stores a cache line apart.
+void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
+{
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = i0; i < i1; ++i)
+  {
+    if (o.state[i] == PointState::OnGrid || o.state[i] == PointState::Duplicate)
+    {
+      const auto p = static_cast<std::size_t>(o.grid_pos[i]);
+      o.out_label[i] = o.label[p];
+      o.out_curvature[i] = o.curvature[p];
+      o.out_smoothness[i] = o.smoothness[p];
+      o.out_discontinuity[i] = o.discontinuity[p];
+      o.out_primitive[i] = o.primitive[p];
+    }
+    else
+    {
+      o.out_label[i] = static_cast<std::uint8_t>(Label::None);
+      o.out_curvature[i] = kNaN;
+      o.out_smoothness[i] = kNaN;
+      o.out_discontinuity[i] = kNaN;
+      o.out_primitive[i] = -1;
+    }
+  }
+}
+
+#if defined(RC_SIMD_CLONES_ON)
+// gatherOutput eight points at a time with AVX2's masked gathers (the compiler emits none for
+// the plain loop): the scalar loop spent ~20 instructions a point, most of them loads and stores
+// one value at a time and reloads of pointers it had no registers for. A label is gathered as
+// the 32 bits at its address, so a group whose positions reach into the last three bytes of
+// the labels is left to gatherOutput (as are the last n % 8 points). Returns the points done.
+__attribute__((target("avx2"))) std::size_t gatherOutputAvx2(const OutputArrays& o, std::size_t n,
+                                                             std::size_t grid_size)
+{
+  if (grid_size < 4) return 0;
+  const __m256i one = _mm256_set1_epi32(static_cast<int>(PointState::OnGrid));
+  const __m256i two = _mm256_set1_epi32(static_cast<int>(PointState::Duplicate));
+  const __m256i last = _mm256_set1_epi32(static_cast<int>(grid_size - 4));  // last whole 32 bits
+  const __m256i none = _mm256_set1_epi32(-1), byte = _mm256_set1_epi32(0xFF);
+  const __m256 nan = _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  const auto* const label = reinterpret_cast<const int*>(o.label);
+  const auto* const primitive = reinterpret_cast<const int*>(o.primitive);
+  std::size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    const __m256i s = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(o.state + i)));
+    const __m256i on = _mm256_or_si256(_mm256_cmpeq_epi32(s, one), _mm256_cmpeq_epi32(s, two));
+    const __m256i pos = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(o.grid_pos + i));
+    if (_mm256_movemask_epi8(_mm256_and_si256(on, _mm256_cmpgt_epi32(pos, last))) != 0)
+    {
+      gatherOutput(o, i, i + 8);
+      continue;
+    }
+    const __m256 on_ps = _mm256_castsi256_ps(on);
+    _mm256_storeu_ps(o.out_curvature + i, _mm256_mask_i32gather_ps(nan, o.curvature, pos, on_ps, 4));
+    _mm256_storeu_ps(o.out_smoothness + i, _mm256_mask_i32gather_ps(nan, o.smoothness, pos, on_ps, 4));
+    _mm256_storeu_ps(o.out_discontinuity + i, _mm256_mask_i32gather_ps(nan, o.discontinuity, pos, on_ps, 4));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.out_primitive + i),
+                        _mm256_mask_i32gather_epi32(none, primitive, pos, on, 4));
+    // None is 0: the masked-off lanes keep the zero they start with
+    const __m256i l = _mm256_and_si256(_mm256_mask_i32gather_epi32(_mm256_setzero_si256(), label, pos, on, 1), byte);
+    const __m128i w = _mm_packus_epi32(_mm256_castsi256_si128(l), _mm256_extracti128_si256(l, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(o.out_label + i), _mm_packus_epi16(w, w));
+  }
+  return i;
+}
+#endif
 
 // Points of each label but None among labels[0, n) (counts[0] is left alone). Sixteen bytes at a
 // time: a match compares to all ones (-1), subtracted into one byte counter per lane and label,
@@ -84,53 +177,24 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
   primitive_extractor_.extract(grid_, labels_, params_, out.primitives);
   out.times.primitives = msSince(t);
 
-  // Scatter back to input order. Duplicates take their representative's results; invalid
+  // Gather back to input order. Duplicates take their representative's results; invalid
   // returns and second returns stay unlabelled.
-  // Walk the input in order and gather from the grid: the writes, five arrays, are sequential
-  // and every entry is written once, while the reads follow the rings (a few streams per array,
-  // cached). Filling the arrays first and then scattering in grid order wrote each entry
-  // twice, with stores a cache line apart.
-  // Raw pointers: a label is a byte, and a byte store may alias anything, so through the vectors
-  // the compiler reloaded every data pointer after each label store (perf).
   const std::size_t n = grid_.num_input;
-  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   out.label.resize(n);
   out.curvature.resize(n);
   out.smoothness.resize(n);
   out.discontinuity.resize(n);
   out.primitive.resize(n);
-  const PointState* const state = grid_.state.data();
-  const std::int32_t* const grid_pos = grid_.grid_pos.data();
-  const Label* const lab = labels_.data();
-  const float* const curv = features_.curvature.data();
-  const float* const smooth = features_.smoothness.data();
-  const float* const disc = features_.discontinuity.data();
-  const std::int32_t* const prim = out.primitives.of_grid.data();
-  std::uint8_t* const out_label = out.label.data();
-  float* const out_curv = out.curvature.data();
-  float* const out_smooth = out.smoothness.data();
-  float* const out_disc = out.discontinuity.data();
-  std::int32_t* const out_prim = out.primitive.data();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (state[i] == PointState::OnGrid || state[i] == PointState::Duplicate)
-    {
-      const auto p = static_cast<std::size_t>(grid_pos[i]);
-      out_label[i] = static_cast<std::uint8_t>(lab[p]);
-      out_curv[i] = curv[p];
-      out_smooth[i] = smooth[p];
-      out_disc[i] = disc[p];
-      out_prim[i] = prim[p];
-    }
-    else
-    {
-      out_label[i] = static_cast<std::uint8_t>(Label::None);
-      out_curv[i] = kNaN;
-      out_smooth[i] = kNaN;
-      out_disc[i] = kNaN;
-      out_prim[i] = -1;
-    }
-  }
+  const OutputArrays o{grid_.state.data(), grid_.grid_pos.data(), reinterpret_cast<const std::uint8_t*>(labels_.data()),
+                       features_.curvature.data(), features_.smoothness.data(), features_.discontinuity.data(),
+                       out.primitives.of_grid.data(), out.label.data(), out.curvature.data(), out.smoothness.data(),
+                       out.discontinuity.data(), out.primitive.data()};
+  std::size_t done = 0;
+#if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx2")) done = gatherOutputAvx2(o, n, grid_.size());
+#endif
+  gatherOutput(o, done, n);
+  const std::uint8_t* const out_label = out.label.data();
   // Counted apart, sixteen labels at a time (countLabels): a ++count[label] per point was a chain
   // of stores and reloads of the same counter (nine points in ten are planes).
   std::array<std::uint32_t, kNumLabels> counts{};
