@@ -174,7 +174,9 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
 void Classifier::classify(const ScanGrid& grid, const Features& f, const Params& P,
                           const std::vector<RingThresholds>& thr, std::vector<Label>& labels)
 {
-  labels.assign(grid.size(), Label::None);
+  // No fill with None first: the rings partition the grid, and each ring's kernel below writes
+  // every one of its positions (resize writes only what a larger frame adds).
+  labels.resize(grid.size());
   const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
   const float sigma = P.range_noise;
   const float jump_noise = P.noise_floor_k * 2.45f * sigma;  // sqrt(6) sigma: linear-prediction noise
