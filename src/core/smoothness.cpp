@@ -18,6 +18,9 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
 // (sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12).
+// The largest smoothness_window that Params::validate lets through.
+constexpr int kMaxWindow = 256;
+
 inline double invCount(double cnt) { return 1.0 / cnt; }
 inline double invTrend(double cnt) { return 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt); }
 
@@ -81,8 +84,36 @@ RC_SIMD_CLONES void fullWindowSmoothnessSided(int K, int w, int ext, int E, cons
   int k0, k1;
   unclampedRange(K, w, ext, k0, k1);
   for (int k = 0; k < k0; ++k) out[k] = fullWindowSample<true>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
-  for (int k = k0; k < k1; ++k)
-    out[k] = fullWindowSample<false>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
+  // Unclamped, the left window of sample k, [c0 - w, c0 + 1), is the right window of sample k - w,
+  // with the same mean index (c0 - w / 2 either way, exact): the same operations on the same
+  // values. So each one-sided window is formed once, for a block of samples at a time (in
+  // `sided`, on the stack), where fullWindowSample formed every one twice.
+  // (A window wider than Params::validate allows, from unvalidated parameters, takes the
+  // per-sample loop.)
+  constexpr int kBlock = 256;
+  double sided[kBlock + kMaxWindow];
+  const double hw = 0.5 * static_cast<double>(w);
+  if (w > kMaxWindow)
+    for (int k = k0; k < k1; ++k)
+      out[k] = fullWindowSample<false>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
+  for (int kb = w > kMaxWindow ? k1 : k0; kb < k1; kb += kBlock)
+  {
+    const int ke = std::min(kb + kBlock, k1);
+    const int j0 = kb + ext - w;  // sided[t]: the window [j0 + t, j0 + t + w + 1)
+    for (int t = 0; t < ke - kb + w; ++t)
+    {
+      const int j = j0 + t;
+      sided[t] = windowVariance(S0, S1, S2, true, j, j + w + 1, static_cast<double>(j) + hw, ics, its);
+    }
+    for (int k = kb; k < ke; ++k)
+    {
+      const int c0 = k + ext;
+      double v = windowVariance(S0, S1, S2, true, c0 - w, c0 + w + 1, static_cast<double>(c0), ic, it);
+      v = std::min(v, sided[k - kb]);      // left: [c0 - w, c0 + 1)
+      v = std::min(v, sided[k - kb + w]);  // right: [c0, c0 + w + 1)
+      out[k] = static_cast<float>(v);
+    }
+  }
   for (int k = k1; k < K; ++k) out[k] = fullWindowSample<true>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
 }
 
