@@ -74,7 +74,9 @@ RC_SIMD_CLONES void labelQuartile(const Features& f, std::size_t b, std::size_t 
     l = corner ? static_cast<std::uint8_t>(Label::Corner) : l;
     l = plane ? static_cast<std::uint8_t>(Label::Plane) : l;
     l = S > t.smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
-    lab[i] = std::isnan(S) & std::isnan(k) & std::isnan(D) ? static_cast<std::uint8_t>(Label::None) : l;
+    const int undefined =
+        static_cast<int>(std::isnan(S)) & static_cast<int>(std::isnan(k)) & static_cast<int>(std::isnan(D));
+    lab[i] = undefined != 0 ? static_cast<std::uint8_t>(Label::None) : l;
   }
 }
 
@@ -105,7 +107,9 @@ RC_SIMD_CLONES void labelRobust(const Features& f, const double* range_b, std::s
     l = turn_high ? static_cast<std::uint8_t>(Label::Edge) : l;
     l = jump_high ? static_cast<std::uint8_t>(Label::Corner) : l;
     l = S > t.smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
-    lab[i] = std::isnan(S) & std::isnan(k) & std::isnan(D) ? static_cast<std::uint8_t>(Label::None) : l;
+    const int undefined =
+        static_cast<int>(std::isnan(S)) & static_cast<int>(std::isnan(k)) & static_cast<int>(std::isnan(D));
+    lab[i] = undefined != 0 ? static_cast<std::uint8_t>(Label::None) : l;
   }
 }
 }  // namespace

@@ -163,7 +163,7 @@ inline void storeCurvature(double turn, double len, bool defined, float& turning
 {
   const float kappa = static_cast<float>(turn / len);
   turning = defined ? static_cast<float>(turn) : kNaN;
-  curvature = defined & (len > 0) ? kappa : kNaN;
+  curvature = (defined & (len > 0)) ? kappa : kNaN;
 }
 
 // Per-ring view with circular neighbour access limited to the current run.

@@ -341,7 +341,7 @@ RC_SIMD_CLONES std::size_t binCandidates(const float* x, std::size_t n, std::uin
   {
     const std::uint32_t bin = floatBits(x[i]) >> kBinShift;
     out[m] = x[i];  // overwritten by the next one unless this one is wanted
-    m += (bin == b0) | (bin == b1) ? 1 : 0;
+    m += ((bin == b0) | (bin == b1)) ? 1 : 0;
   }
   return m;
 }
@@ -376,7 +376,7 @@ RC_SIMD_CLONES std::size_t bandCandidates(const float* x, std::size_t n, float m
     const float d = std::fabs(x[i] - med);
     count += d < lo ? 1u : 0u;
     out[m] = d;  // overwritten by the next one unless this one is wanted
-    m += (d >= lo) & (d <= hi) ? 1 : 0;
+    m += ((d >= lo) & (d <= hi)) ? 1 : 0;
   }
   under = count;
   return m;

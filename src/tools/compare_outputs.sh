@@ -11,7 +11,13 @@ set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
 rc_source_ws
 before=$(realpath "$1") after=$(realpath "$2")
-work=${3:-$(mktemp -d)}
+# Without WORK_DIR the outputs (~1 GB) go to a temporary folder that is removed at the end.
+if [[ $# -ge 3 ]]; then
+  work=$3
+else
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+fi
 mkdir -p "$work"
 real="$REPO_ROOT/../shared/data/real"
 bags=("$REPO_ROOT"/rosbag_fixtures/*.bag
@@ -61,5 +67,5 @@ EOF
     fi
   done
 done
-echo "identical: $same, different: $differ (outputs in $work)"
+echo "identical: $same, different: $differ${3:+ (outputs in $work)}"
 [[ $differ -eq 0 ]]
