@@ -22,6 +22,7 @@ struct FrameProcessor::Impl
   sensor_msgs::PointCloud2Ptr labelled, edges, planes;
   PrimitiveArrayPtr primitives;
   visualization_msgs::MarkerArrayPtr markers;
+  MarkerScratch marker_scratch;  // (grown to the largest primitive once, not allocated per frame)
 };
 
 FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
@@ -57,7 +58,7 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
   if (select.planes)
     out.planes = m.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane, std::move(m.planes));
   if (select.markers)
-    out.markers = m.markers = makePrimitiveMarkers(r.primitives, view, msg.header, std::move(m.markers));
+    out.markers = m.markers = makePrimitiveMarkers(r.primitives, view, msg.header, std::move(m.markers), &m.marker_scratch);
 
   FrameSummary& f = summary_;
   f.points = r.label.size();

@@ -38,25 +38,25 @@ std_msgs::ColorRGBA colourOf(Label label, float alpha)
 
 
 /// The finite points of one primitive as three coordinate arrays (the plane loops below then
-/// work on four points per instruction). One buffer for every primitive of a frame: it only
-/// grows, `size` says how much of it holds this primitive's points.
+/// work on four points per instruction), held in the scratch buffers (MarkerScratch).
 struct Points
 {
-  std::vector<float> x, y, z;
-  std::size_t size = 0;
+  const float *x, *y, *z;
+  std::size_t size;
   Eigen::Vector3f operator[](std::size_t k) const { return Eigen::Vector3f(x[k], y[k], z[k]); }
 };
 
-/// Reads the finite points of one primitive in place from the view into `pts`. Leaves it empty
-/// when any index is out of range (a primitive set that does not belong to this cloud: draw
-/// nothing rather than garbage).
-void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud, Points& pts)
+/// Reads the finite points of one primitive in place from the view into the scratch buffers.
+/// Returns none when any index is out of range (a primitive set that does not belong to this
+/// cloud: draw nothing rather than garbage).
+Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
+                MarkerScratch& buf)
 {
-  pts.size = 0;
+  Points pts{buf.x.data(), buf.y.data(), buf.z.data(), 0};
   const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
   if (end > prims.indices.size() || cloud.data == nullptr || !cloud.x.present() ||
       !cloud.y.present() || !cloud.z.present())
-    return;
+    return pts;
   const bool float32 = cloud.x.type == ScalarType::Float32 && cloud.y.type == ScalarType::Float32 &&
                        cloud.z.type == ScalarType::Float32;
   // Rows without padding (every cloud makeView accepts): record i starts at i * point_step, the
@@ -65,18 +65,19 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
   const std::size_t step = cloud.point_step;
   const bool flat = cloud.height == 1 || cloud.row_step == static_cast<std::size_t>(cloud.width) * step;
   const std::size_t size = cloud.size(), data_size = cloud.data_size;
-  if (pts.x.size() < prim.num_points)
+  if (buf.x.size() < prim.num_points)
   {
-    pts.x.resize(prim.num_points);
-    pts.y.resize(prim.num_points);
-    pts.z.resize(prim.num_points);
+    buf.x.resize(prim.num_points);
+    buf.y.resize(prim.num_points);
+    buf.z.resize(prim.num_points);
   }
   // Written through plain pointers, everything the loop reads held in locals: push_back's
   // capacity test and reloads of the view's members per point showed in the profile (planes hold
   // most points of a frame).
-  float* const xs = pts.x.data();
-  float* const ys = pts.y.data();
-  float* const zs = pts.z.data();
+  float* const xs = buf.x.data();
+  float* const ys = buf.y.data();
+  float* const zs = buf.z.data();
+  pts = Points{xs, ys, zs, 0};
   std::size_t m = 0;
   const std::uint32_t* const idx = prims.indices.data();
   // Keeps a point when its three coordinates are finite. x - x is +0 for a finite x and NaN
@@ -102,7 +103,7 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
     {
       const std::size_t i = idx[k];
       if (i >= limit)
-        return;
+        return pts;
       const std::size_t off = i * step;
       store(readFloat32(px + off), readFloat32(py + off), readFloat32(pz + off));
     }
@@ -113,10 +114,10 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
     {
       const std::uint32_t i = idx[k];
       if (i >= size)
-        return;
+        return pts;
       const std::uint8_t* rec = flat ? data + i * step : cloud.record(i);
       if (static_cast<std::size_t>(rec - data) + step > data_size)
-        return;
+        return pts;
       if (float32)
         store(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset), readFloat32(rec + cloud.z.offset));
       else
@@ -126,10 +127,17 @@ void pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointC
     }
   }
   pts.size = m;
+  return pts;
 }
 
+// Slots::next resets a recycled marker field by field, so it must know every field: these are
+// the MD5 sum of the Marker definition it was written for (a changed definition fails here).
+static_assert(ros::message_traits::MD5Sum<visualization_msgs::Marker>::static_value1 == 0x4048c9de2a16f4aeULL &&
+                  ros::message_traits::MD5Sum<visualization_msgs::Marker>::static_value2 == 0x8e0538085ebf1b97ULL,
+              "visualization_msgs/Marker changed: update Slots::next to its fields");
+
 /// The markers of a frame, filled in order into an array that may hold an earlier frame's: a
-/// marker already there is reset to a default one that keeps its buffers (points, namespace),
+/// marker already there is reset to a default one that keeps its buffers (points, strings),
 /// so a recycled array allocates nothing for markers it had; the rest is cut off at the end.
 struct Slots
 {
@@ -143,16 +151,26 @@ struct Slots
       return markers.emplace_back();
     }
     visualization_msgs::Marker& m = markers[used++];
-    auto points = std::move(m.points);
-    auto ns = std::move(m.ns);
-    auto frame = std::move(m.header.frame_id);
-    m = visualization_msgs::Marker();
-    points.clear();
-    ns.clear();
-    frame.clear();
-    m.points = std::move(points);
-    m.ns = std::move(ns);
-    m.header.frame_id = std::move(frame);
+    // Each field set to its default in place: assigning a default-constructed marker (with the
+    // buffers moved out and back around it) cost ~300 instructions a marker, 1 % of the
+    // nodelet's samples.
+    m.header.seq = 0;
+    m.header.stamp = ros::Time();
+    m.header.frame_id.clear();
+    m.ns.clear();
+    m.id = 0;
+    m.type = 0;
+    m.action = 0;
+    m.pose = geometry_msgs::Pose();
+    m.scale = geometry_msgs::Vector3();
+    m.color = std_msgs::ColorRGBA();
+    m.lifetime = ros::Duration();
+    m.frame_locked = 0;
+    m.points.clear();
+    m.colors.clear();
+    m.text.clear();
+    m.mesh_resource.clear();
+    m.mesh_use_embedded_materials = 0;
     return m;
   }
 };
@@ -208,9 +226,9 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   const auto dot = [](auto dx, auto dy, auto dz, const Eigen::Vector3f& w) {
     return dx * w.x() + (dy * w.y() + dz * w.z());
   };
-  const float* const xs = pts.x.data();
-  const float* const ys = pts.y.data();
-  const float* const zs = pts.z.data();
+  const float* const xs = pts.x;
+  const float* const ys = pts.y;
+  const float* const zs = pts.z;
   const std::size_t m = pts.size;
   float cuu = 0, cvv = 0, cuv = 0;
   std::size_t k = 0;
@@ -300,11 +318,12 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   arrow.points.push_back(toPoint(c + length * n));
 }
 
-void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Header& header, Slots& out)
+void addEdge(const PrimitiveInfo& prim, const Points& chain, const std_msgs::Header& header,
+             std::vector<Eigen::Vector3f>& pts, Slots& out)
 {
   if (chain.size < 2)
     return;
-  std::vector<Eigen::Vector3f> pts(chain.size);
+  pts.resize(chain.size);  // (a buffer kept between edges and frames)
   for (std::size_t k = 0; k < chain.size; ++k)
     pts[k] = chain[k];
   // Grid order is ring-major, not along the edge; ordering by position on the principal axis
@@ -340,8 +359,11 @@ void addCluster(const PrimitiveInfo& prim, const Points& pts, const std_msgs::He
 visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prims,
                                                         const PointCloudView& cloud,
                                                         const std_msgs::Header& header,
-                                                        visualization_msgs::MarkerArrayPtr reuse)
+                                                        visualization_msgs::MarkerArrayPtr reuse,
+                                                        MarkerScratch* scratch)
 {
+  MarkerScratch local;
+  MarkerScratch& buf = scratch != nullptr ? *scratch : local;
   auto array = recycled(std::move(reuse));
   array->markers.reserve(2 * prims.primitives.size() + 1);
   Slots out{array->markers};
@@ -349,10 +371,9 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   clear.header = header;
   clear.action = visualization_msgs::Marker::DELETEALL;
 
-  Points pts;
   for (const PrimitiveInfo& prim : prims.primitives)
   {
-    pointsOf(prims, prim, cloud, pts);
+    const Points pts = pointsOf(prims, prim, cloud, buf);
     if (pts.size == 0)
       continue;
     switch (prim.label)
@@ -361,7 +382,7 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
         addPlane(prim, pts, header, out);
         break;
       case Label::Edge:
-        addEdge(prim, pts, header, out);
+        addEdge(prim, pts, header, buf.chain, out);
         break;
       case Label::Corner:
         addCluster(prim, pts, header, kCornerNs, kCornerSphere, out);

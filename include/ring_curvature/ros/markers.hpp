@@ -15,6 +15,9 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include <std_msgs/Header.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -48,16 +51,27 @@ constexpr const char* kEdgeNs = "edges";
 constexpr const char* kCornerNs = "corners";
 constexpr const char* kRoughNs = "rough";
 
+/// Buffers makePrimitiveMarkers keeps from one call to the next when the caller passes them: they
+/// only grow, so a frame allocates none (the points of one primitive at a time, an edge chain
+/// being ordered). Their contents between calls mean nothing.
+struct MarkerScratch
+{
+  std::vector<float> x, y, z;
+  std::vector<Eigen::Vector3f> chain;
+};
+
 /// Plane patches: a TRIANGLE_LIST quad spanning the patch's points in its own plane (centroid,
 /// normal = PrimitiveInfo::axis, in-plane principal direction from the points) plus an ARROW along
 /// the normal. Edge chains: a LINE_STRIP through the points ordered along the edge's axis.
 /// Corner clusters and rough clusters: a SPHERE_LIST of their points. Colours: kLabelPalette.
 /// Primitives whose indices fall outside `cloud` or whose points are all non-finite are skipped.
 /// `reuse`: an array built by an earlier call, filled again when the caller holds its only
-/// reference (its markers keep their buffers).
+/// reference (its markers keep their buffers). `scratch`: buffers kept by the caller for the next
+/// call (else allocated for this one).
 visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prims,
                                                         const PointCloudView& cloud,
                                                         const std_msgs::Header& header,
-                                                        visualization_msgs::MarkerArrayPtr reuse = {});
+                                                        visualization_msgs::MarkerArrayPtr reuse = {},
+                                                        MarkerScratch* scratch = nullptr);
 
 }  // namespace ring_curvature
