@@ -109,10 +109,44 @@ inline void padRecord(std::uint8_t* rec, std::size_t base)
   std::memcpy(rec + base - 4, &zero, 4);
 }
 
-// Appended fields of one point (see makeLabelledCloud for the layout).
-template <class Copy>
+// Nothing more per point (makeLabelledCloud alone).
+struct NoSubset
+{
+  template <class Copy>
+  void operator()(std::size_t, const std::uint8_t*, std::uint8_t*, Copy) const
+  {
+  }
+};
+
+// The records of the points labelled `label`, copied in order to dst .. end (sized for exactly
+// those) while fillLabelled walks the input, so each record is read once for both clouds. Every
+// record is copied and the pointer advances past kept ones only, as copySubset's dense loop
+// does; once every kept record is in, the rest are copied into the labelled record about to be
+// written (`scratch`, at least as long as an input record and overwritten next), not past end.
+struct DenseSubset
+{
+  const std::uint8_t* label;
+  std::uint8_t keep;
+  std::size_t step;
+  std::uint8_t* dst;
+  std::uint8_t* end;
+  template <class Copy>
+  void operator()(std::size_t i, const std::uint8_t* src, std::uint8_t* scratch, Copy copy)
+  {
+    copy(dst != end ? dst : scratch, src);
+    // A mask, not `? step : 0`, which GCC made a branch here: it mispredicted at every change
+    // between plane and non-plane points.
+    dst += step & (std::size_t{0} - (label[i] == keep));
+  }
+};
+
+// Appended fields of one point (see makeLabelledCloud for the layout); `subset` copies the
+// record to a second cloud first (see DenseSubset). `subset` is taken by value: a local whose
+// address does not escape, its pointers stay in registers (through a reference, every byte store
+// might alias them, and they were reloaded and stored back per point).
+template <class Copy, class Subset>
 void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std::size_t base, std::size_t step,
-                  std::uint8_t* dst, Copy copy)
+                  std::uint8_t* dst, Copy copy, Subset subset)
 {
   // Plain pointers: through the vectors the compiler reloads each data pointer per point (the
   // byte stores may alias them).
@@ -123,6 +157,7 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
   const std::uint8_t* const label = r.label.data();
   forEachRecord(in, [&](std::size_t i, const std::uint8_t* src) {
     std::uint8_t* const rec = dst + i * step;
+    subset(i, src, rec, copy);
     padRecord(rec, base);
     copy(rec, src);
     std::uint8_t* const app = rec + base;
@@ -200,7 +235,7 @@ void copySubset(const sensor_msgs::PointCloud2& in, const std::uint8_t* label, s
         if (dst == end)  // every kept point copied (and no room for another record)
           return;
         copy(dst, src + col * point_step);
-        dst += (label[col] == a) | (label[col] == b) ? point_step : 0;
+        dst += ((label[col] == a) | (label[col] == b)) ? point_step : 0;
       }
     }
     else
@@ -230,10 +265,14 @@ void copySubset(const sensor_msgs::PointCloud2& in, const std::uint8_t* label, s
 
 }  // namespace
 
-sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result,
-                                              sensor_msgs::PointCloud2Ptr reuse)
+namespace
 {
-  auto out = recycled(std::move(reuse));
+
+// Everything of the labelled cloud but its records (sized, not filled). Returns where the
+// appended fields start in a record.
+std::uint32_t labelledLayout(const sensor_msgs::PointCloud2& input, sensor_msgs::PointCloud2& cloud)
+{
+  sensor_msgs::PointCloud2* const out = &cloud;
   out->header = input.header;
   out->height = input.height;
   out->width = input.width;
@@ -261,12 +300,43 @@ sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& in
   const std::size_t n = static_cast<std::size_t>(input.width) * input.height;
   // Every byte is written below, padding included (zeros): no fill first.
   out->data.resize(n * out->point_step);
+  return base;
+}
+
+// Everything of a subset cloud (points labelled a or b) but its records (sized, not filled).
+// Returns the number of points.
+std::size_t subsetLayout(const sensor_msgs::PointCloud2& input, const FrameResult& result, std::uint8_t a,
+                         std::uint8_t b, sensor_msgs::PointCloud2& cloud)
+{
+  sensor_msgs::PointCloud2* const out = &cloud;
+  out->header = input.header;
+  out->fields = input.fields;
+  out->is_bigendian = false;
+  // Only valid (finite, in range) returns get a label other than None.
+  out->is_dense = true;
+  out->point_step = input.point_step;
+  out->height = 1;
+  const std::size_t count = countLabels(result.label.data(), result.label.size(), a, b);
+  out->width = static_cast<std::uint32_t>(count);
+  out->row_step = out->width * out->point_step;
+  out->data.resize(count * out->point_step);  // every record is copied in below
+  return count;
+}
+
+}  // namespace
+
+sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& input, const FrameResult& result,
+                                              sensor_msgs::PointCloud2Ptr reuse)
+{
+  auto out = recycled(std::move(reuse));
+  const std::uint32_t base = labelledLayout(input, *out);
+  const std::size_t n = static_cast<std::size_t>(input.width) * input.height;
   // One pass: each input record, then its appended fields.
   std::uint8_t* const dst = out->data.data();
   const std::size_t step = out->point_step;
   withCopier(input.point_step, [&](auto copy) {
     if (result.label.size() == n)
-      fillLabelled(input, result, base, step, dst, copy);
+      fillLabelled(input, result, base, step, dst, copy, NoSubset());
     else
       fillUnlabelled(input, base, step, dst, copy);
   });
@@ -277,20 +347,9 @@ sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& inpu
                                             Label a, Label b, sensor_msgs::PointCloud2Ptr reuse)
 {
   auto out = recycled(std::move(reuse));
-  out->header = input.header;
-  out->fields = input.fields;
-  out->is_bigendian = false;
-  // Only valid (finite, in range) returns get a label other than None.
-  out->is_dense = true;
-  out->point_step = input.point_step;
-  out->height = 1;
-
   const auto la = static_cast<std::uint8_t>(a), lb = static_cast<std::uint8_t>(b);
   const std::uint8_t* const label = result.label.data();
-  const std::size_t count = countLabels(label, result.label.size(), la, lb);
-  out->width = static_cast<std::uint32_t>(count);
-  out->row_step = out->width * out->point_step;
-  out->data.resize(count * out->point_step);  // every record is copied in below
+  const std::size_t count = subsetLayout(input, result, la, lb, *out);
   if (count > 0)
   {
     std::uint8_t* const dst = out->data.data();
@@ -300,6 +359,28 @@ sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& inpu
     });
   }
   return out;
+}
+
+void makeLabelledAndPlaneClouds(const sensor_msgs::PointCloud2& input, const FrameResult& result,
+                                sensor_msgs::PointCloud2Ptr& labelled, sensor_msgs::PointCloud2Ptr& planes)
+{
+  const std::size_t n = static_cast<std::size_t>(input.width) * input.height;
+  if (result.label.size() != n)
+  {
+    labelled = makeLabelledCloud(input, result, std::move(labelled));
+    planes = makeLabelSubset(input, result, Label::Plane, Label::Plane, std::move(planes));
+    return;
+  }
+  labelled = recycled(std::move(labelled));
+  planes = recycled(std::move(planes));
+  const std::uint32_t base = labelledLayout(input, *labelled);
+  const auto plane = static_cast<std::uint8_t>(Label::Plane);
+  const std::size_t count = subsetLayout(input, result, plane, plane, *planes);
+  std::uint8_t* const dst = planes->data.data();
+  const DenseSubset subset{result.label.data(), plane, input.point_step, dst, dst + count * input.point_step};
+  withCopier(input.point_step, [&](auto copy) {
+    fillLabelled(input, result, base, labelled->point_step, labelled->data.data(), copy, subset);
+  });
 }
 
 }  // namespace ring_curvature

@@ -29,4 +29,11 @@ sensor_msgs::PointCloud2Ptr makeLabelledCloud(const sensor_msgs::PointCloud2& in
 sensor_msgs::PointCloud2Ptr makeLabelSubset(const sensor_msgs::PointCloud2& input, const FrameResult& result,
                                             Label a, Label b, sensor_msgs::PointCloud2Ptr reuse = {});
 
+/// makeLabelledCloud and makeLabelSubset(input, result, Label::Plane, Label::Plane) at once, the
+/// same two messages, in one pass over the input: each record is read once for both clouds.
+/// `labelled` and `planes` are the reuse candidates on entry (as for those two) and the new
+/// messages on return.
+void makeLabelledAndPlaneClouds(const sensor_msgs::PointCloud2& input, const FrameResult& result,
+                                sensor_msgs::PointCloud2Ptr& labelled, sensor_msgs::PointCloud2Ptr& planes);
+
 }  // namespace ring_curvature
