@@ -171,10 +171,24 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
 }
 
 // Slots::next resets a recycled marker field by field, so it must know every field: these are
-// the MD5 sum of the Marker definition it was written for (a changed definition fails here).
+// the MD5 sums of the Marker and Header definitions it was written for (a changed definition
+// fails here).
 static_assert(ros::message_traits::MD5Sum<visualization_msgs::Marker>::static_value1 == 0x4048c9de2a16f4aeULL &&
                   ros::message_traits::MD5Sum<visualization_msgs::Marker>::static_value2 == 0x8e0538085ebf1b97ULL,
               "visualization_msgs/Marker changed: update Slots::next to its fields");
+static_assert(ros::message_traits::MD5Sum<std_msgs::Header>::static_value1 == 0x2176decaecbce78aULL &&
+                  ros::message_traits::MD5Sum<std_msgs::Header>::static_value2 == 0xbc3b96ef049fabedULL,
+              "std_msgs/Header changed: update Slots::next to its fields");
+
+/// Sets `s` to the `n` characters at `v`, leaving it alone when it holds them already: a recycled
+/// marker mostly does (the frame id and the namespace of the same slot last frame), and the
+/// comparison costs less than the assignment (the two string assignments were half the cost of
+/// a marker's fields).
+void setString(std::string& s, const char* v, std::size_t n)
+{
+  if (s.size() != n || std::memcmp(s.data(), v, n) != 0)
+    s.assign(v, n);
+}
 
 /// The markers of a frame, filled in order into an array that may hold an earlier frame's: a
 /// marker already there is reset to a default one that keeps its buffers (points, strings),
@@ -183,21 +197,22 @@ struct Slots
 {
   std::vector<visualization_msgs::Marker>& markers;
   std::size_t used = 0;
-  visualization_msgs::Marker& next()
+  /// The next marker: a default one with `header` and namespace `ns`.
+  visualization_msgs::Marker& next(const std_msgs::Header& header, const char* ns)
   {
-    if (used == markers.size())
-    {
-      ++used;
-      return markers.emplace_back();
-    }
-    visualization_msgs::Marker& m = markers[used++];
-    // Each field set to its default in place: assigning a default-constructed marker (with the
-    // buffers moved out and back around it) cost ~300 instructions a marker, 1 % of the
-    // nodelet's samples.
-    m.header.seq = 0;
-    m.header.stamp = ros::Time();
-    m.header.frame_id.clear();
-    m.ns.clear();
+    visualization_msgs::Marker& m = used == markers.size() ? markers.emplace_back() : reset(markers[used]);
+    ++used;
+    m.header.seq = header.seq;
+    m.header.stamp = header.stamp;
+    setString(m.header.frame_id, header.frame_id.data(), header.frame_id.size());
+    setString(m.ns, ns, std::strlen(ns));
+    return m;
+  }
+  /// `m` with every field but the header and the namespace (which next sets) at its default.
+  static visualization_msgs::Marker& reset(visualization_msgs::Marker& m)
+  {
+    // Each field set in place: assigning a default-constructed marker (with the buffers moved
+    // out and back around it) cost ~300 instructions a marker, 1 % of the nodelet's samples.
     m.id = 0;
     m.type = 0;
     m.action = 0;
@@ -220,9 +235,7 @@ struct Slots
 visualization_msgs::Marker& addMarker(Slots& out, const std_msgs::Header& header, const char* ns,
                                       const PrimitiveInfo& prim, std::int32_t type)
 {
-  visualization_msgs::Marker& m = out.next();
-  m.header = header;
-  m.ns = ns;
+  visualization_msgs::Marker& m = out.next(header, ns);
   m.id = static_cast<std::int32_t>(prim.id);
   m.type = type;
   m.action = visualization_msgs::Marker::ADD;
@@ -237,6 +250,7 @@ Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
       std::abs(n.z()) < 0.9f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitX();
   return n.cross(helper).normalized();
 }
+
 
 void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header,
               Slots& out)
@@ -397,8 +411,7 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   auto array = recycled(std::move(reuse));
   array->markers.reserve(2 * prims.primitives.size() + 1);
   Slots out{array->markers};
-  visualization_msgs::Marker& clear = out.next();
-  clear.header = header;
+  visualization_msgs::Marker& clear = out.next(header, "");
   clear.action = visualization_msgs::Marker::DELETEALL;
 
   for (const PrimitiveInfo& prim : prims.primitives)
