@@ -57,11 +57,63 @@ struct Points
   Eigen::Vector3f operator[](std::size_t k) const { return Eigen::Vector3f(x[k], y[k], z[k]); }
 };
 
+/// Eigen's `(p - c).dot(w)` for three floats (it sums as d0 w0 + (d1 w1 + d2 w2)) spelled out, for
+/// plain floats and for four points at a time: through the expression templates every point cost
+/// several times as much (perf), and the plane patches are the output whose cost grows with the
+/// points.
+template <class T>
+inline T dotWith(T dx, T dy, T dz, const Eigen::Vector3f& w)
+{
+  return dx * w.x() + (dy * w.y() + dz * w.z());
+}
+
+/// The sums of a plane patch's 2-D covariance in its in-plane basis u0, v0 about the centroid,
+/// accumulated by pointsOf as it gathers the points (see addPlane): the loop that summed them
+/// afterwards was a chain of dependent additions with little else to do, which now overlaps with
+/// the gather. Summed point by point in gather order, as one pass over the stored points did
+/// (float addition does not associate); a lane of the 4-wide form rounds as the scalar form.
+struct PlaneSums
+{
+  Eigen::Vector3f n, u0, v0;
+  float cx, cy, cz;
+  /// cuu, cvv, cuv and a zero: one register for the three running sums, each lane its own
+  /// sum (three float sums spilled to the stack in the gather loop, for want of registers).
+  Float4 c = {};
+  void add(float x, float y, float z)
+  {
+    const float dx = x - cx, dy = y - cy, dz = z - cz;
+    const float qu = dotWith(dx, dy, dz, u0), qv = dotWith(dx, dy, dz, v0);
+    c += Float4{qu * qu, qv * qv, qu * qv, 0.0f};
+  }
+  void add4(Float4 x, Float4 y, Float4 z)
+  {
+    const Float4 dx = x - cx, dy = y - cy, dz = z - cz;
+    const Float4 qu = dotWith(dx, dy, dz, u0), qv = dotWith(dx, dy, dz, v0);
+    const Float4 uu = qu * qu, vv = qv * qv, uv = qu * qv, zero = {};
+    // The four points' {uu, vv, uv, 0} (a transpose), added one point after the other.
+    // (__builtin_shufflevector: clang, and GCC from 12, Debian 12's.)
+    const Float4 a = __builtin_shufflevector(uu, vv, 0, 4, 1, 5), b = __builtin_shufflevector(uv, zero, 0, 4, 1, 5);
+    const Float4 e = __builtin_shufflevector(uu, vv, 2, 6, 3, 7), f = __builtin_shufflevector(uv, zero, 2, 6, 3, 7);
+    c += __builtin_shufflevector(a, b, 0, 1, 4, 5);
+    c += __builtin_shufflevector(a, b, 2, 3, 6, 7);
+    c += __builtin_shufflevector(e, f, 0, 1, 4, 5);
+    c += __builtin_shufflevector(e, f, 2, 3, 6, 7);
+  }
+};
+
+/// No sums (the primitives other than planes).
+struct NoSums
+{
+  void add(float, float, float) {}
+  void add4(Float4, Float4, Float4) {}
+};
+
 /// Reads the finite points of one primitive in place from the view into the scratch buffers.
 /// Returns none when any index is out of range (a primitive set that does not belong to this
-/// cloud: draw nothing rather than garbage).
+/// cloud: draw nothing rather than garbage). Adds every point it keeps to `sums`, in order.
+template <class Sums>
 Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
-                MarkerScratch& buf)
+                MarkerScratch& buf, Sums& sums_out)
 {
   Points pts{buf.x.data(), buf.y.data(), buf.z.data(), 0};
   const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
@@ -90,6 +142,9 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
   float* const zs = buf.z.data();
   pts = Points{xs, ys, zs, 0};
   std::size_t m = 0;
+  // A local copy, written back at the end: the float stores below might alias the caller's
+  // object, and its sums would be stored and reloaded per point.
+  Sums sums = sums_out;
   const std::uint32_t* const idx = prims.indices.data();
   // Keeps a point when its three coordinates are finite. x - x is +0 for a finite x and NaN
   // otherwise: one test for the three (three isfinite tests were a quarter of the gather's
@@ -101,6 +156,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     ys[m] = y;
     zs[m] = z;
     ++m;
+    sums.add(x, y, z);
   };
   if (float32 && flat)
   {
@@ -132,6 +188,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
         store4(ys + m, y);
         store4(zs + m, z);
         m += 4;
+        sums.add4(x, y, z);
       }
       else
       {
@@ -167,6 +224,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     }
   }
   pts.size = m;
+  sums_out = sums;
   return pts;
 }
 
@@ -252,51 +310,33 @@ Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
 }
 
 
-void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Header& header,
-              Slots& out)
+/// The plane's unit normal and the in-plane basis u0, v0 the covariance is summed in; false when
+/// the axis is no direction (no patch is drawn).
+bool planeFrame(const PrimitiveInfo& prim, PlaneSums& sums)
 {
   Eigen::Vector3f n = prim.axis;
   if (!(n.squaredNorm() > 0.0f) || !n.allFinite())
-    return;
+    return false;
   n.normalize();
+  sums.n = n;
   // In-plane principal direction from the points' 2-D covariance, so the quad follows the patch
   // (a wall strip seen by 16 rings is long and thin; a square would misdraw it).
-  const Eigen::Vector3f u0 = anyPerpendicular(n), v0 = n.cross(u0);
-  // The loops below spell out Eigen's `(p - c).dot(w)` (for three floats it sums as
-  // d0 w0 + (d1 w1 + d2 w2)) on plain floats, four points at a time: through the expression
-  // templates every point cost several times as much (perf), and this is the output whose cost
-  // grows with the points. The scalar form handles the last points.
-  const float cx = prim.centroid.x(), cy = prim.centroid.y(), cz = prim.centroid.z();
-  const auto dot = [](auto dx, auto dy, auto dz, const Eigen::Vector3f& w) {
-    return dx * w.x() + (dy * w.y() + dz * w.z());
-  };
-  const float* const xs = pts.x;
-  const float* const ys = pts.y;
-  const float* const zs = pts.z;
-  const std::size_t m = pts.size;
-  float cuu = 0, cvv = 0, cuv = 0;
-  std::size_t k = 0;
-  for (; k + 4 <= m; k += 4)
-  {
-    const Float4 dx = load4(xs + k) - cx, dy = load4(ys + k) - cy, dz = load4(zs + k) - cz;
-    const Float4 qu = dot(dx, dy, dz, u0), qv = dot(dx, dy, dz, v0);
-    const Float4 uu = qu * qu, vv = qv * qv, uv = qu * qv;
-    // Summed point by point in order, as the scalar loop does (float addition does not associate).
-    for (int l = 0; l < 4; ++l)
-    {
-      cuu += uu[l];
-      cvv += vv[l];
-      cuv += uv[l];
-    }
-  }
-  for (; k < m; ++k)
-  {
-    const float dx = xs[k] - cx, dy = ys[k] - cy, dz = zs[k] - cz;
-    const float qu = dot(dx, dy, dz, u0), qv = dot(dx, dy, dz, v0);
-    cuu += qu * qu;
-    cvv += qv * qv;
-    cuv += qu * qv;
-  }
+  sums.u0 = anyPerpendicular(n);
+  sums.v0 = n.cross(sums.u0);
+  sums.cx = prim.centroid.x();
+  sums.cy = prim.centroid.y();
+  sums.cz = prim.centroid.z();
+  return true;
+}
+
+/// `sums`: planeFrame's, with every point of `pts` added.
+void addPlane(const PrimitiveInfo& prim, const Points& pts, const PlaneSums& sums, const std_msgs::Header& header,
+              Slots& out)
+{
+  const Eigen::Vector3f& n = sums.n;
+  const Eigen::Vector3f& u0 = sums.u0;
+  const Eigen::Vector3f& v0 = sums.v0;
+  const float cuu = sums.c[0], cvv = sums.c[1], cuv = sums.c[2];
   // Major axis of a 2x2 covariance in closed form (no iterative solver for two dimensions).
   const float angle = 0.5f * std::atan2(2.0f * cuv, cuu - cvv);
   const Eigen::Vector3f u = (std::cos(angle) * u0 + std::sin(angle) * v0).normalized();
@@ -304,12 +344,18 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   // Extents: a minimum and a maximum do not depend on the order, so four running ones per bound,
   // merged at the end. Each update is std::min / std::max's own test (a NaN never replaces the
   // bound), and the bounds start at +0, which a -0 never replaces: the same bits as one pass.
+  // Four points at a time; the scalar form handles the last ones.
+  const float cx = sums.cx, cy = sums.cy, cz = sums.cz;
+  const float* const xs = pts.x;
+  const float* const ys = pts.y;
+  const float* const zs = pts.z;
+  const std::size_t m = pts.size;
+  std::size_t k = 0;
   Float4 umin4 = {}, umax4 = {}, vmin4 = {}, vmax4 = {};
-  k = 0;
   for (; k + 4 <= m; k += 4)
   {
     const Float4 dx = load4(xs + k) - cx, dy = load4(ys + k) - cy, dz = load4(zs + k) - cz;
-    const Float4 du = dot(dx, dy, dz, u), dv = dot(dx, dy, dz, v);
+    const Float4 du = dotWith(dx, dy, dz, u), dv = dotWith(dx, dy, dz, v);
     umin4 = du < umin4 ? du : umin4;
     umax4 = umax4 < du ? du : umax4;
     vmin4 = dv < vmin4 ? dv : vmin4;
@@ -326,7 +372,7 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const std_msgs::Head
   for (; k < m; ++k)
   {
     const float dx = xs[k] - cx, dy = ys[k] - cy, dz = zs[k] - cz;
-    const float du = dot(dx, dy, dz, u), dv = dot(dx, dy, dz, v);
+    const float du = dotWith(dx, dy, dz, u), dv = dotWith(dx, dy, dz, v);
     umin = std::min(umin, du);
     umax = std::max(umax, du);
     vmin = std::min(vmin, dv);
@@ -416,13 +462,23 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
 
   for (const PrimitiveInfo& prim : prims.primitives)
   {
-    const Points pts = pointsOf(prims, prim, cloud, buf);
+    if (prim.label == Label::Plane)
+    {
+      PlaneSums sums;
+      if (!planeFrame(prim, sums))
+        continue;
+      const Points pts = pointsOf(prims, prim, cloud, buf, sums);
+      if (pts.size > 0)
+        addPlane(prim, pts, sums, header, out);
+      continue;
+    }
+    NoSums none;
+    const Points pts = pointsOf(prims, prim, cloud, buf, none);
     if (pts.size == 0)
       continue;
     switch (prim.label)
     {
-      case Label::Plane:
-        addPlane(prim, pts, header, out);
+      case Label::Plane:  // (above)
         break;
       case Label::Edge:
         addEdge(prim, pts, header, buf.chain, out);
