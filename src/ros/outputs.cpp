@@ -33,6 +33,14 @@ bool isAppendedName(const std::string& name)
   return false;
 }
 
+// Zeroes the padding between an input record and its appended fields (0 to 3 bytes, before
+// base): a zero word ending at base, written before the record, which overwrites its own part.
+inline void padRecord(std::uint8_t* rec, std::size_t base)
+{
+  const std::uint32_t zero = 0;
+  std::memcpy(rec + base - 4, &zero, 4);
+}
+
 // Copies one record of `n` bytes. Records are small (22 bytes for a velodyne XYZIRT, 48 for an
 // ouster point) and a memcpy call per record with a run-time size was the largest cost of the
 // output messages: whole 8-byte words instead, the last one overlapping its predecessor.
@@ -55,6 +63,12 @@ struct RunTimeCopy
     std::memcpy(&w, src + n - 8, 8);
     std::memcpy(dst + n - 8, &w, 8);
   }
+  // The record, then zeros up to `base`, its length rounded up to 4 bytes (see padRecord).
+  void padded(std::uint8_t* dst, const std::uint8_t* src, std::size_t base) const
+  {
+    padRecord(dst, base);
+    (*this)(dst, src);
+  }
 };
 
 // The common record sizes with the size known to the compiler: a few inline moves per record
@@ -63,6 +77,35 @@ template <std::size_t N>
 struct FixedCopy
 {
   void operator()(std::uint8_t* dst, const std::uint8_t* src) const { std::memcpy(dst, src, N); }
+  // As RunTimeCopy::padded (base is N rounded up to 4 bytes). A record of a multiple of 4 bytes
+  // has no padding; the velodyne one's two padding bytes come with its last word: the 8 bytes
+  // ending at byte 22, shifted down by two bytes, are bytes 16 .. 21 and two zeros
+  // (little-endian), one store where the zero word and the overlapping last word were two (the
+  // labelled cloud's pass is bound by its stores).
+  void padded(std::uint8_t* dst, const std::uint8_t* src, std::size_t base) const
+  {
+    if constexpr (N % 4 == 0)
+    {
+      (void)base;
+      std::memcpy(dst, src, N);
+    }
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    else if constexpr (N == 22)
+    {
+      (void)base;
+      std::memcpy(dst, src, 16);
+      std::uint64_t w;
+      std::memcpy(&w, src + 14, 8);
+      w >>= 16;
+      std::memcpy(dst + 16, &w, 8);
+    }
+#endif
+    else
+    {
+      padRecord(dst, base);
+      std::memcpy(dst, src, N);
+    }
+  }
 };
 
 // Calls f(copier) with the copier for records of `n` bytes.
@@ -111,14 +154,6 @@ inline U32x4 loadU32x4(const T* p)
   U32x4 v;
   std::memcpy(&v, p, sizeof v);
   return v;
-}
-
-// Zeroes the padding between an input record and its appended fields (0 to 3 bytes, before
-// base): a zero word ending at base, written before the record, which overwrites its own part.
-inline void padRecord(std::uint8_t* rec, std::size_t base)
-{
-  const std::uint32_t zero = 0;
-  std::memcpy(rec + base - 4, &zero, 4);
 }
 
 // Nothing more per point (makeLabelledCloud alone).
@@ -172,8 +207,7 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
   const auto record = [&](std::size_t i, const std::uint8_t* src, U32x4 fields) {
     std::uint8_t* const rec = dst + i * step;
     subset(i, src, rec, copy);
-    padRecord(rec, base);
-    copy(rec, src);
+    copy.padded(rec, src, base);
     std::uint8_t* const app = rec + base;
     std::memcpy(app, &fields, 16);
     const std::uint32_t last = label[i];
