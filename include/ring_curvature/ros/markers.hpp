@@ -2,10 +2,8 @@
 // config/ring_curvature.rviz and the screenshot checker (test/viz/check_screenshot.py parses
 // kLabelPalette from this file, so edit the colours here only).
 //
-// Final signature (called by the nodelet once per frame, only while ~markers has subscribers):
-//
-//   visualization_msgs::MarkerArrayPtr ring_curvature::makePrimitiveMarkers(
-//       const PrimitiveSet& prims, const PointCloudView& cloud, const std_msgs::Header& header);
+// makePrimitiveMarkers (below) is called by the nodelet once per frame, only while ~markers has
+// subscribers.
 //
 // `cloud` is the same view that was given to Pipeline::process (the primitives' indices point
 // into it); the points are read in place to order edge chains and size plane patches.
