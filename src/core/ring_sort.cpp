@@ -316,6 +316,9 @@ void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
   // state removeDuplicates has decided.
   PointState* const state = grid.state.data();
   std::int32_t* const grid_pos = grid.grid_pos.data();
+  // The duplicates counted in a register: incremented through `++(duplicate ? a : b)`, each one
+  // waited on the store of the one before (nearly every follower of a dual-return frame is one).
+  std::size_t duplicates = 0;
   for (std::size_t k = 0; k < num_followers_; ++k)
   {
     const Follower& f = followers_[k];
@@ -323,8 +326,10 @@ void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
     const PointState s = twin == PointState::OnGrid ? PointState::Duplicate : twin;
     state[f.point] = s;
     grid_pos[f.point] = grid_pos[f.of];  // the twin's position, or its representative's
-    ++(s == PointState::Duplicate ? grid.num_duplicates : grid.num_second_returns);
+    duplicates += s == PointState::Duplicate ? 1 : 0;
   }
+  grid.num_duplicates += duplicates;
+  grid.num_second_returns += num_followers_ - duplicates;
   grid.num_folded = num_followers_;
 }
 
