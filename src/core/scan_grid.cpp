@@ -355,6 +355,7 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
   const float same_range = std::max(params.range_noise, 0.005f);
   std::uint32_t w = 0;
   std::uint32_t new_begin = 0;
+  std::size_t duplicates = 0, removed = 0;
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
@@ -372,7 +373,8 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
         const std::size_t ri = static_cast<std::size_t>(rep);
         const bool same = std::fabs(prange_[i] - prange_[ri]) <= static_cast<double>(same_range);
         grid.state[i] = same ? PointState::Duplicate : PointState::SecondReturn;
-        ++(same ? grid.num_duplicates : grid.num_second_returns);
+        duplicates += same ? 1 : 0;  // in a register (see resolveFollowers)
+        ++removed;
         grid.grid_pos[i] = static_cast<std::int32_t>(w - 1);  // the representative's grid position
         continue;
       }
@@ -383,6 +385,8 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
     }
     new_begin = w;
   }
+  grid.num_duplicates += duplicates;
+  grid.num_second_returns += removed - duplicates;
   grid.ring_begin[static_cast<std::size_t>(grid.num_rings)] = w;
   tmp_index_.resize(w);
   sorted_az_.resize(w);
