@@ -61,7 +61,8 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   bin_start_.assign(grid.ring_begin.begin(), grid.ring_begin.end());
   std::uint32_t* const next = bin_start_.data();
   std::uint64_t* const unsorted = keys_tmp_.data();
-  //    The same pass folds identical returns. Dual-return drivers send both returns of a firing,
+  //    The sort by ring also folds identical returns (in the same pass, or right after it for
+  //    rings interleaved point by point; see below). Dual-return drivers send both returns of a firing,
   //    identical where the beam met one surface (half the points of a dual-return VLP-16
   //    frame), one or two places apart in the ring's sequence. Such a point (same azimuth and
   //    range as one of the ring's last two kept points) stays off the sort, and
@@ -71,7 +72,8 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    the same verdict; and the spacings measureResolution keeps do not change (it drops the
   //    zero ones). It needs same_firing > 0 (`fold_identical`).
   //    (How each ring arrived, which sortRing needs, is read afterwards from its kept keys,
-  //    which are in firing order: in this loop, its state went through memory at every point.)
+  //    which are in firing order: kept alongside the fold, it went through memory at every
+  //    point.)
   ring_fold_.assign(R, RingFold{});
   RingFold* const fold = ring_fold_.data();
   growTo(followers_, n);

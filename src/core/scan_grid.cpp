@@ -450,7 +450,8 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   // Two sorted sequences: walk them together to the last sample above at or before each
   // azimuth, then take the nearest of it, its successor (around the seam) and the last one.
   // The walk only stores where it stopped (in `up`); the choice is a loop of its own that
-  // vectorizes (nearestAbove): in one loop with the walk it was three times the instructions.
+  // vectorizes (nearestAbove): in one loop with the walk, the search took 1.7 times the
+  // instructions.
   const float* const az = grid.azimuth.data();
   std::int32_t* const up = grid.up.data();
   for (int n = 0; n + 1 < grid.num_rings; ++n)
