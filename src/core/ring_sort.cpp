@@ -28,6 +28,10 @@ inline float keyAzimuth(std::uint64_t key)
   return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
 }
 inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
+inline std::uint64_t sortKey(float azimuth, std::size_t i)
+{
+  return (static_cast<std::uint64_t>(azimuthKey(azimuth)) << 32) | static_cast<std::uint32_t>(i);
+}
 
 // The azimuth steps of a ring's keys in their order, step[j] = az[j] - az[j - 1] (j >= 1), a flag
 // where a step goes beyond -pi or pi, and how many steps go down.
@@ -74,8 +78,6 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    (How each ring arrived, which sortRing needs, is read afterwards from its kept keys,
   //    which are in firing order: kept alongside the fold, it went through memory at every
   //    point.)
-  ring_fold_.assign(R, RingFold{});
-  RingFold* const fold = ring_fold_.data();
   growTo(followers_, n);
   Follower* const followers = followers_.data();
   std::size_t num_followers = 0;
@@ -84,12 +86,13 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   const std::int32_t* const ring_of = ring_of_.data();
   const float* const paz = paz_.data();
   const double* const prange = prange_.data();
-  // One point into its ring: `f` and `nx` are the ring's fold state and next slot.
-  // (Captures by value but the count: through references, the compiler reloaded them after
-  // every store.)
-  const auto place = [paz, prange, followers, unsorted, fold_identical, &num_followers](std::size_t i, RingFold& f,
-                                                                                      std::uint32_t& nx) {
-    const std::uint32_t az_key = azimuthKey(paz[i]);
+  // One point, by its sort key, into its ring: `f` and `nx` are the ring's fold state and next
+  // slot. (Captures by value but the count: through references, the compiler reloaded them
+  // after every store.)
+  const auto place = [prange, followers, unsorted, fold_identical, &num_followers](std::uint64_t key, RingFold& f,
+                                                                                 std::uint32_t& nx) {
+    const auto az_key = static_cast<std::uint32_t>(key >> 32);
+    const std::uint32_t i = keyIndex(key);
     if (fold_identical)
     {
       // Compared as bits, in integer registers: for these values that is the float comparison
@@ -100,7 +103,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
       const bool same1 = (az_key == f.az1) & (range == f.r1), same2 = (az_key == f.az2) & (range == f.r2);
       if (same1 | same2)
       {
-        followers[num_followers++] = {static_cast<std::uint32_t>(i), same1 ? f.i1 : f.i2};
+        followers[num_followers++] = {i, same1 ? f.i1 : f.i2};
         return;
       }
       f.az2 = f.az1;
@@ -108,9 +111,9 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
       f.i2 = f.i1;
       f.az1 = az_key;
       f.r1 = range;
-      f.i1 = static_cast<std::uint32_t>(i);
+      f.i1 = i;
     }
-    unsorted[nx++] = (static_cast<std::uint64_t>(az_key) << 32) | static_cast<std::uint32_t>(i);
+    unsorted[nx++] = key;
   };
   // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
   // come, with the current ring's state in registers. Rings interleaved point by point
@@ -124,7 +127,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     for (std::size_t i = 0; i < n; ++i)
     {
       const std::int32_t r = ring_of[i];
-      if (r >= 0) unsorted[next[r]++] = (static_cast<std::uint64_t>(azimuthKey(paz[i])) << 32) | i;
+      if (r >= 0) unsorted[next[r]++] = sortKey(paz[i], i);
     }
     if (fold_identical)
     {
@@ -134,14 +137,15 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
         // sequence as in the loop below, and writes the kept keys back over the ring's front.
         RingFold f{};
         std::uint32_t w = grid.ring_begin[r];
-        for (std::uint32_t j = grid.ring_begin[r]; j < next[r]; ++j)
-          place(keyIndex(unsorted[j]), f, w);
+        for (std::uint32_t j = grid.ring_begin[r]; j < next[r]; ++j) place(unsorted[j], f, w);
         next[r] = w;
       }
     }
   }
   else
   {
+    ring_fold_.assign(R, RingFold{});  // each ring's state while another ring's points come
+    RingFold* const fold = ring_fold_.data();
     std::int32_t cur = -1;
     RingFold f{};
     std::uint32_t nx = 0;
@@ -160,7 +164,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
         f = fold[r];
         nx = next[r];
       }
-      place(i, f, nx);
+      place(sortKey(paz[i], i), f, nx);
     }
     if (cur >= 0)
     {
