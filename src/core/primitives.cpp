@@ -23,6 +23,11 @@ inline float angDiff(float a, float b)
   return d > kPi ? 2 * kPi - d : d;
 }
 
+inline bool inRange(double ra, double rb, double range_ratio, double range_min)
+{
+  return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
+}
+
 // Which positions (b, e) of a ring join their predecessor's run: same wanted label (labels 1 to
 // num_wanted), linked, and close by Eq 19-20, in the operand order of the pair (p-1, p). Each
 // position on its own, without branches: the compiler vectorizes the loop (16 positions an
@@ -37,7 +42,7 @@ RC_SIMD_CLONES void angularJoins(std::size_t b, std::size_t e, const Label* __re
   {
     const auto l = static_cast<std::uint8_t>(lab[p]), l_prev = static_cast<std::uint8_t>(lab[p - 1]);
     const double ra = range[p - 1], rb = range[p];
-    const bool in_range = !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
+    const bool in_range = inRange(ra, rb, range_ratio, range_min);
     join[p] = (static_cast<std::uint8_t>(l - 1) < num_wanted) & (linked[p] != 0) & (l_prev == l) & in_range &
               (angDiff(azimuth[p - 1], azimuth[p]) <= az_tol);  // Eq 19
   }
@@ -121,10 +126,6 @@ inline void unite(std::uint32_t* parent, std::uint32_t a, std::uint32_t b)
   if (a == b) return;
   if (a < b) std::swap(a, b);
   parent[a] = b;  // the smaller position is the root: components are numbered in scan order
-}
-inline bool inRange(double ra, double rb, double range_ratio, double range_min)
-{
-  return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
 }
 
 // The loops over a ring below are functions of their own (not inlined): inside extract, with
