@@ -48,24 +48,22 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
   const auto t0 = std::chrono::steady_clock::now();
   Impl& m = *impl_;
   // The plane cloud is built with the labelled one when both are wanted: one pass over the input.
-  const bool labelled_and_planes = select.labelled && select.planes;
-  if (labelled_and_planes)
+  if (select.labelled && select.planes)
   {
     makeLabelledAndPlaneClouds(msg, r, m.labelled, m.planes);
     out.labelled = m.labelled;
+    out.planes = m.planes;
   }
   else if (select.labelled)
     out.labelled = m.labelled = makeLabelledCloud(msg, r, std::move(m.labelled));
+  else if (select.planes)
+    out.planes = m.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane, std::move(m.planes));
   if (select.primitives)
   {
     out.primitives = m.primitives = makePrimitiveArray(msg.header, r.primitives, std::move(m.primitives));
   }
   if (select.edges)
     out.edges = m.edges = makeLabelSubset(msg, r, Label::Edge, Label::Corner, std::move(m.edges));
-  if (labelled_and_planes)
-    out.planes = m.planes;
-  else if (select.planes)
-    out.planes = m.planes = makeLabelSubset(msg, r, Label::Plane, Label::Plane, std::move(m.planes));
   if (select.markers)
     out.markers = m.markers = makePrimitiveMarkers(r.primitives, view, msg.header, std::move(m.markers), &m.marker_scratch);
 

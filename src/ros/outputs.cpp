@@ -257,8 +257,7 @@ void fillUnlabelled(const sensor_msgs::PointCloud2& in, std::size_t base, std::s
   const std::uint32_t last = 0;  // label None, then the padding
   forEachRecord(in, [&](std::size_t i, const std::uint8_t* src) {
     std::uint8_t* const rec = dst + i * step;
-    padRecord(rec, base);
-    copy(rec, src);
+    copy.padded(rec, src, base);
     std::uint8_t* const app = rec + base;
     std::memcpy(app + 0, &nan, 4);
     std::memcpy(app + 4, &nan, 4);
