@@ -36,16 +36,17 @@ struct ScanGrid
   std::vector<float> ring_cos;           ///< cos(phi_n)
   std::vector<std::uint8_t> ring_closed; ///< 1 when the ring's curve wraps across the 0/360 seam
 
-  // per grid position
-  std::vector<std::uint32_t> index;   ///< input point index
+  // per grid position (uninitialized vectors: every entry is written after each resize; a plain
+  // vector's resize after clear() zero-filled each of them first, ~2 % of a frame's instructions)
+  UninitializedVector<std::uint32_t> index;  ///< input point index
   // double: float64 input keeps its precision, and the convergence study (paper Table 1)
   // reaches steps where float32 rounding of coordinates would dominate the error.
   // (Uninitialized: the arrays below are resized each frame and then written in full.)
   UninitializedVector<double> x, y, z;
   UninitializedVector<double> range;  ///< 3-D range rho [m]
-  std::vector<float> azimuth;         ///< [rad] in [-pi, pi)
-  std::vector<std::uint8_t> linked;   ///< 1 when connected to its predecessor on the ring (no gap)
-  std::vector<std::int32_t> up;       ///< nearest position on ring n+1 (azimuth), -1 if none
+  UninitializedVector<float> azimuth;         ///< [rad] in [-pi, pi)
+  UninitializedVector<std::uint8_t> linked;   ///< 1 when connected to its predecessor on the ring (no gap)
+  UninitializedVector<std::int32_t> up;       ///< nearest position on ring n+1 (azimuth), -1 if none
 
   // per input point
   UninitializedVector<PointState> state;
@@ -106,9 +107,9 @@ private:
   UninitializedVector<float> px_, py_, pz_;  // each point's coordinates as float32
   // scratch, per ring / bin
   std::vector<std::uint32_t> counts_, bin_start_;
-  std::vector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
-  std::vector<float> sorted_az_;          // and its azimuth
-  std::vector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
+  UninitializedVector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
+  UninitializedVector<float> sorted_az_;          // and its azimuth
+  UninitializedVector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
   std::vector<RingFold> ring_fold_;
   std::vector<float> steps_;        // one ring's azimuth steps in firing order (sortRing)
   std::vector<std::uint8_t> wide_;  // and where they go beyond +-pi
