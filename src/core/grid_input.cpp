@@ -80,7 +80,49 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
   return max_read;
 }
 
+// Azimuths of points at once (fastAtan2 is branch-free: 4 or 8 at a time): the generic input
+// loop's, and those of the points the AVX2 input pass leaves (see readRecords).
+RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const float* __restrict y,
+                               float* __restrict azimuth)
+{
+  for (std::size_t i = 0; i < n; ++i) azimuth[i] = fastAtan2(y[i], x[i]);
+}
+
 #if defined(RC_SIMD_CLONES_ON)
+// fastAtan2 (scan_grid.hpp) eight lanes at a time, operation for operation, so bit for bit the
+// same: the comparisons on bit patterns are signed ones here (AVX2 has no unsigned 32-bit
+// compare), which agree with the unsigned ones for these operands (|x| and |y| have a clear sign
+// bit; "x < 0" is "bits in (0x80000000, 0xff800000]", i.e. signed in (INT_MIN, -0x800000]).
+__attribute__((target("avx2"))) inline __m256 fastAtan2Avx2(__m256 y, __m256 x)
+{
+  const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u)), inf = _mm256_set1_epi32(0x7f800000);
+  const __m256i sx = _mm256_castps_si256(x), sy = _mm256_castps_si256(y);
+  const __m256i bx = _mm256_andnot_si256(sign, sx), by = _mm256_andnot_si256(sign, sy);  // |x|, |y|
+  const __m256i not_above_inf_x = _mm256_cmpgt_epi32(_mm256_add_epi32(inf, _mm256_set1_epi32(1)), bx);
+  const __m256i not_above_inf_y = _mm256_cmpgt_epi32(_mm256_add_epi32(inf, _mm256_set1_epi32(1)), by);
+  const __m256i x_lt_y = _mm256_and_si256(_mm256_cmpgt_epi32(by, bx), not_above_inf_y);
+  const __m256i y_lt_x = _mm256_and_si256(_mm256_cmpgt_epi32(bx, by), not_above_inf_x);
+  const __m256i mx = _mm256_blendv_epi8(bx, by, x_lt_y), mn = _mm256_blendv_epi8(bx, by, y_lt_x);
+  const __m256i nonzero = _mm256_and_si256(_mm256_cmpgt_epi32(mx, _mm256_setzero_si256()),
+                                           _mm256_cmpgt_epi32(_mm256_add_epi32(inf, _mm256_set1_epi32(1)), mx));
+  const __m256 one = _mm256_set1_ps(1.0f);
+  const __m256 a = _mm256_div_ps(_mm256_castsi256_ps(mn), _mm256_blendv_ps(one, _mm256_castsi256_ps(mx),
+                                                                          _mm256_castsi256_ps(nonzero)));
+  const __m256 s = _mm256_mul_ps(a, a);
+  __m256 r = _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(0.0208351f), s), _mm256_set1_ps(0.0851330f));
+  r = _mm256_add_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.1801410f));
+  r = _mm256_sub_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.3302995f));
+  r = _mm256_add_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.9998660f));
+  r = _mm256_mul_ps(r, a);
+  r = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(1.57079637f), r), _mm256_castsi256_ps(x_lt_y));
+  const __m256i neg_limit = _mm256_set1_epi32(static_cast<int>(0xff800001u));  // bits <= 0xff800000
+  const __m256i x_neg = _mm256_and_si256(_mm256_cmpgt_epi32(sx, sign), _mm256_cmpgt_epi32(neg_limit, sx));
+  const __m256i y_neg = _mm256_and_si256(_mm256_cmpgt_epi32(sy, sign), _mm256_cmpgt_epi32(neg_limit, sy));
+  r = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(3.14159265358979f), r), _mm256_castsi256_ps(x_neg));
+  r = _mm256_blendv_ps(r, _mm256_xor_ps(r, _mm256_castsi256_ps(sign)), _mm256_castsi256_ps(y_neg));
+  return _mm256_and_ps(r, _mm256_castsi256_ps(nonzero));
+}
+
 // readXyzRecords eight points at a time, written with AVX2 intrinsics: each field is one gather
 // and each output one store. The compiler's vectorization of the loop above worked sixteen points
 // at a time, loading every field with a single-lane insert and spilling its vectors to the stack
@@ -93,7 +135,8 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
 __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox, std::size_t oy, std::size_t oz,
     std::size_t oring, bool has_ring, std::int32_t fixed_ring, double rmin, double rmax, double* range_out, float* px,
-    float* py, float* pz, std::int32_t* ring_out, PointState* state, std::int32_t* grid_pos, std::uint32_t& max_read)
+    float* py, float* pz, float* paz, std::int32_t* ring_out, PointState* state, std::int32_t* grid_pos,
+    std::uint32_t& max_read)
 {
   // every gather offset of a group (7 steps and a field offset) must fit an int32
   if (step > (1u << 26) || n < 9) return 0;
@@ -124,6 +167,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     _mm256_storeu_ps(px + i, x);
     _mm256_storeu_ps(py + i, y);
     _mm256_storeu_ps(pz + i, z);
+    _mm256_storeu_ps(paz + i, fastAtan2Avx2(y, x));
     // valid per lane; each half's four 64-bit masks become 32-bit ones (their low halves)
 #define RC_VALID4(r)                                                                                            \
   _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(                                                           \
@@ -156,7 +200,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
 // one at a time.
 std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox,
                           std::size_t oy, std::size_t oz, std::size_t oring, bool has_ring, std::int32_t fixed_ring,
-                          double rmin, double rmax, double* range_out, float* px, float* py, float* pz,
+                          double rmin, double rmax, double* range_out, float* px, float* py, float* pz, float* paz,
                           std::int32_t* ring_out, PointState* state, std::int32_t* grid_pos)
 {
   std::uint32_t max_read = 0;
@@ -164,20 +208,16 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
 #if defined(RC_SIMD_CLONES_ON)
   if (__builtin_cpu_supports("avx2"))
     done = readXyzRecordsAvx2(data, n, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax, range_out, px, py,
-                              pz, ring_out, state, grid_pos, max_read);
+                              pz, paz, ring_out, state, grid_pos, max_read);
 #endif
   const std::size_t o = done * step;
-  return std::max(max_read, readXyzRecords(data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin,
-                                           rmax, range_out + done, px + done, py + done, pz + done,
-                                           ring_out + done, state + done, grid_pos + done));
+  max_read = std::max(max_read, readXyzRecords(data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin,
+                                               rmax, range_out + done, px + done, py + done, pz + done,
+                                               ring_out + done, state + done, grid_pos + done));
+  azimuths(n - done, px + done, py + done, paz + done);
+  return max_read;
 }
 
-// Azimuths of every point at once (fastAtan2 is branch-free: 4 or 8 at a time).
-RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const float* __restrict y,
-                               float* __restrict azimuth)
-{
-  for (std::size_t i = 0; i < n; ++i) azimuth[i] = fastAtan2(y[i], x[i]);
-}
 }  // namespace
 
 Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid)
@@ -206,7 +246,8 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     const std::uint32_t max_read = readRecords(
         view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
         static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), true, 0, rmin, rmax,
-        prange_.data(), px_.data(), py_.data(), pz_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
+        prange_.data(), px_.data(), py_.data(), pz_.data(), paz_.data(), ring_of_.data(), grid.state.data(),
+        grid.grid_pos.data());
     if (max_read >= static_cast<std::uint32_t>(params.max_rings))
     {
       for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
@@ -227,8 +268,8 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
       readRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
                      static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
                      static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
-                     prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, ring_of_.data() + i0,
-                     grid.state.data() + i0, grid.grid_pos.data() + i0);
+                     prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
+                     ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
       if (!view.ring.present()) continue;
       const std::uint8_t* rec = data + view.ring.offset;
       if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
@@ -271,6 +312,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
                    rmax);
       }
     }
+    azimuths(n, px_.data(), py_.data(), paz_.data());
   }
   // Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
   // increments would keep the loops above from vectorizing.
@@ -296,7 +338,6 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   int max_ring = -1;
   for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
     if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
-  azimuths(n, px_.data(), py_.data(), paz_.data());
   grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
   return Status::success();
 }
