@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 
 namespace ring_curvature
 {
@@ -87,13 +88,13 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   const float* const paz = paz_.data();
   const double* const prange = prange_.data();
   // One point, by its sort key, into its ring: `f` and `nx` are the ring's fold state and next
-  // slot. (Captures by value but the count: through references, the compiler reloaded them
-  // after every store.)
-  const auto place = [prange, followers, unsorted, fold_identical, &num_followers](std::uint64_t key, RingFold& f,
-                                                                                 std::uint32_t& nx) {
+  // slot, `fold` (std::true_type or std::false_type) whether to fold. (Captures by value but the
+  // count: through references, the compiler reloaded them after every store.)
+  const auto place = [prange, followers, unsorted, &num_followers](std::uint64_t key, RingFold& f, std::uint32_t& nx,
+                                                                   auto fold) {
     const auto az_key = static_cast<std::uint32_t>(key >> 32);
     const std::uint32_t i = keyIndex(key);
-    if (fold_identical)
+    if constexpr (decltype(fold)::value)
     {
       // Compared as bits, in integer registers: for these values that is the float comparison
       // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
@@ -115,6 +116,11 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     }
     unsorted[nx++] = key;
   };
+  // Folding is only a shortcut (a point left unfolded gets the same verdict from the sort and
+  // removeDuplicates), so a frame in which the first kFoldProbe points fold nothing, a
+  // single-return frame, skips the test for the rest: it was a quarter of this function's
+  // instructions there.
+  constexpr std::size_t kFoldProbe = 4096;
   // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
   // come, with the current ring's state in registers. Rings interleaved point by point
   // (velodyne firing order) are first scattered whole, and then each ring is folded in place,
@@ -129,17 +135,21 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
       const std::int32_t r = ring_of[i];
       if (r >= 0) unsorted[next[r]++] = sortKey(paz[i], i);
     }
-    if (fold_identical)
+    std::size_t probed = 0;
+    bool folding = fold_identical;
+    for (std::size_t r = 0; r < R && folding; ++r)
     {
-      for (std::size_t r = 0; r < R; ++r)
-      {
-        // The ring's keys are in input order (the scatter is stable): `place` sees the same
-        // sequence as in the loop below, and writes the kept keys back over the ring's front.
-        RingFold f{};
-        std::uint32_t w = grid.ring_begin[r];
-        for (std::uint32_t j = grid.ring_begin[r]; j < next[r]; ++j) place(unsorted[j], f, w);
-        next[r] = w;
-      }
+      // The ring's keys are in input order (the scatter is stable): `place` sees the same
+      // sequence as in the loop below, and writes the kept keys back over the ring's front.
+      // (The bounds in locals: a follower's stores could alias next[], which the loop would
+      // otherwise reload at every point.)
+      const std::uint32_t b = grid.ring_begin[r], e = next[r];
+      RingFold f{};
+      std::uint32_t w = b;
+      for (std::uint32_t j = b; j < e; ++j) place(unsorted[j], f, w, std::true_type{});
+      probed += e - b;
+      next[r] = w;
+      folding = probed < kFoldProbe || num_followers > 0;
     }
   }
   else
@@ -149,23 +159,32 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     std::int32_t cur = -1;
     RingFold f{};
     std::uint32_t nx = 0;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const std::int32_t r = ring_of[i];
-      if (r < 0) continue;
-      if (r != cur)
+    // Points [from, to) in input order, folding or not.
+    const auto run = [&](std::size_t from, std::size_t to, auto folding) {
+      for (std::size_t i = from; i < to; ++i)
       {
-        if (cur >= 0)
+        const std::int32_t r = ring_of[i];
+        if (r < 0) continue;
+        if (r != cur)
         {
-          fold[cur] = f;
-          next[cur] = nx;
+          if (cur >= 0)
+          {
+            fold[cur] = f;
+            next[cur] = nx;
+          }
+          cur = r;
+          f = fold[r];
+          nx = next[r];
         }
-        cur = r;
-        f = fold[r];
-        nx = next[r];
+        place(sortKey(paz[i], i), f, nx, folding);
       }
-      place(sortKey(paz[i], i), f, nx);
-    }
+    };
+    const std::size_t probe = fold_identical ? std::min(n, kFoldProbe) : 0;
+    run(0, probe, std::true_type{});
+    if (num_followers > 0)
+      run(probe, n, std::true_type{});
+    else
+      run(probe, n, std::false_type{});
     if (cur >= 0)
     {
       fold[cur] = f;

@@ -323,6 +323,42 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   ASSERT_EQ(rd.primitives.primitives.size(), rr.primitives.primitives.size());
   for (std::size_t k = 0; k < rd.primitives.primitives.size(); ++k)
     EXPECT_EQ(rd.primitives.primitives[k].num_points, rr.primitives.primitives[k].num_points);
+
+  // Folding stops when the frame's first 4096 points fold nothing (a single-return frame): here
+  // the first three rings come in the reference order (no twin next to its copy) and only the
+  // last in dual order. Nothing is folded, and every verdict is still the reference's.
+  const auto late_key = [per_ring](const Item& it) {
+    const std::size_t ring = it.from / per_ring;
+    return std::make_pair(ring, ring < 3 ? it.rank : 0);
+  };
+  std::vector<Item> late_order = dual_order;
+  std::stable_sort(late_order.begin(), late_order.end(),
+                   [&](const Item& u, const Item& v) { return late_key(u) < late_key(v); });
+  ASSERT_GT(3 * late_order.size() / 4, 4096u);  // the first three rings fill the probe
+  const SyntheticCloud late = build(late_order);
+  Pipeline pl;
+  FrameResult rl;
+  ASSERT_TRUE(pl.process(late.view(), rl).ok);
+  const ScanGrid& gl = pl.grid();
+  EXPECT_EQ(gl.num_folded, 0u);
+  EXPECT_EQ(gl.num_duplicates, gr.num_duplicates);
+  EXPECT_EQ(gl.num_second_returns, gr.num_second_returns);
+  // the late order and the reference both keep the dual order within each (ring, rank) group
+  std::vector<std::size_t> late_at(dual_order.size());
+  {
+    std::vector<std::size_t> ids(dual_order.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    std::stable_sort(ids.begin(), ids.end(),
+                     [&](std::size_t u, std::size_t v) { return late_key(dual_order[u]) < late_key(dual_order[v]); });
+    for (std::size_t q = 0; q < ids.size(); ++q) late_at[ids[q]] = q;
+  }
+  std::size_t late_same = 0;
+  for (std::size_t i = 0; i < dual_order.size(); ++i)
+  {
+    const std::size_t l = late_at[i], j = at[i];
+    late_same += gl.state[l] == gr.state[j] && rl.label[l] == rr.label[j] && rl.primitive[l] == rr.primitive[j] ? 1 : 0;
+  }
+  EXPECT_EQ(late_same, dual_order.size());
 }
 
 TEST(ScanGrid, OrganizedCloudUsesRowsAndColumns)
