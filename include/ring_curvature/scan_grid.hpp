@@ -93,8 +93,10 @@ private:
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
-  void measureResolution(const Params& params, ScanGrid& grid);
-  float medianSpacing(float* v, std::size_t n);  // the element of rank n / 2 (v is reordered)
+  void measureResolution(const Params& params, ScanGrid& grid);  // grid_resolution.cpp
+  /// The median of the kept spacings among d[0, total) by a bracket from a sample; false when
+  /// the frame is small or the bracket misses (grid_resolution.cpp).
+  bool bracketedMedian(const float* d, std::size_t total, float& median);
   void removeDuplicates(const Params& params, ScanGrid& grid);
   void linkRings(const Params& params, ScanGrid& grid);
   void findVerticalNeighbours(ScanGrid& grid);
@@ -118,7 +120,7 @@ private:
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
-  std::vector<float> inside_;  // the spacings near the median (medianSpacing)
+  std::vector<float> inside_;  // the spacings near the median (bracketedMedian)
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position
 };
 

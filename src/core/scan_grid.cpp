@@ -1,14 +1,12 @@
 // Builds the ring x azimuth scan grid in O(n): the input pass (grid_input.cpp), a counting sort
-// by ring and an insertion sort by azimuth within each ring (ring_sort.cpp), then the measured
-// resolution, dual returns, the gather in grid order, links along rings and across them.
+// by ring and an insertion sort by azimuth within each ring (ring_sort.cpp), the measured
+// resolution (grid_resolution.cpp), then dual returns, the gather in grid order, links along
+// rings and across them.
 #include "ring_curvature/scan_grid.hpp"
 
 #include "cloud_view_checks.hpp"
-#include "grow.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
-
-#include "ring_curvature/classifier.hpp"  // selectNth
 
 #if defined(RC_SIMD_CLONES_ON)
 #include <immintrin.h>
@@ -26,26 +24,6 @@ namespace
 {
 constexpr float kPi = 3.14159265358979f;
 constexpr float kTwoPi = 6.28318530717959f;
-
-float wrapPi(float a)
-{
-  if (a >= kPi) a -= kTwoPi;
-  if (a < -kPi) a += kTwoPi;
-  return a;
-}
-
-// The spacings |wrapPi(az[p] - az[p - 1])| of a ring (b, e) to out[0, e - b - 1); organized
-// clouds per column between the two samples.
-RC_SIMD_CLONES void azimuthSpacings(std::size_t b, std::size_t e, const float* __restrict az, float* __restrict out)
-{
-  for (std::size_t p = b + 1; p < e; ++p) out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1]));
-}
-RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __restrict az,
-                                   const std::uint32_t* __restrict column, float* __restrict out)
-{
-  for (std::size_t p = b + 1; p < e; ++p)
-    out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(column[p] - column[p - 1]);
-}
 
 // Grid coordinates in grid order from the input pass's float32 copies (float32 widens to double
 // exactly), a gather that vectorizes on AVX2.
@@ -337,86 +315,6 @@ void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
   tmp_index_.resize(w);
   sorted_az_.resize(w);
   column_.resize(w);
-}
-
-void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
-{
-  constexpr float kDeg = kPi / 180.0f;
-  if (params.azimuth_resolution_deg > 0.0f)
-  {
-    grid.azimuth_resolution = params.azimuth_resolution_deg * kDeg;
-    return;
-  }
-  // Median spacing of neighbouring samples on the same ring; same-firing duplicates (spacing
-  // near 0) and gaps (> 5 deg) are left out. For organized clouds the spacing per column.
-  // Kept by a branch-free compaction (no push_back bookkeeping per sample).
-  tmp_f_.resize(sorted_az_.size() + 1);
-  float* const kept = tmp_f_.data();
-  const float* const az = sorted_az_.data();
-  std::size_t count = 0;
-  // (the rings as they came: identical returns folded by sortRings count here too)
-  std::uint32_t largest = std::max(1u, grid.organized ? 0u : unfolded_largest_);
-  for (int n = 0; n < grid.num_rings; ++n)
-  {
-    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
-    largest = std::max(largest, e - b);
-    if (e - b < 2) continue;
-    // the spacings in place first, in a loop that vectorizes, then the compaction
-    if (grid.organized)
-      columnSpacings(b, e, az, column_.data(), kept + count);
-    else
-      azimuthSpacings(b, e, az, kept + count);
-    const std::size_t first = count;
-    for (std::uint32_t p = b + 1; p < e; ++p)
-    {
-      const float d = kept[first + (p - b - 1)];  // (count never passes the reads)
-      kept[count] = d;
-      count += ((d > 1e-5f) & (d < 5.0f * kDeg)) ? 1 : 0;
-    }
-  }
-  tmp_f_.resize(count);
-  if (tmp_f_.empty())
-  {
-    grid.azimuth_resolution = kTwoPi / static_cast<float>(largest);
-    return;
-  }
-  // The element at index n / 2, as nth_element would give.
-  grid.azimuth_resolution = medianSpacing(tmp_f_.data(), tmp_f_.size());
-}
-
-float ScanGridBuilder::medianSpacing(float* v, std::size_t n)
-{
-  // The element of rank k = n / 2 by the classifier's radix selection (nth_element over every
-  // spacing of the frame was 4 % of a frame).
-  const std::size_t k = n / 2;
-  constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
-  if (n < 8 * kSample) return selectNth(v, n, k);
-  // Most values are about the same spacing, and the radix selection then moves nearly all of
-  // them at every digit. So first a bracket [lo, hi] around the median from an even sample,
-  // then one pass counts the values below lo and copies out those inside, and the selection
-  // runs on those few. The result is the same element: if the bracket misses rank k (it
-  // holds it with overwhelming odds), the selection runs on all values as before.
-  float sample[kSample];
-  const std::size_t stride = n / kSample;
-  for (std::size_t j = 0; j < kSample; ++j) sample[j] = v[j * stride];
-  // (the radix selection here too: nth_element's comparisons mispredicted ~1500 times a frame)
-  const float lo = selectNth(sample, kSample, kSample / 2 - kSpread);
-  const float hi = selectNth(sample, kSample, kSample / 2 + kSpread);
-  growTo(inside_, n + 1);
-  float* const in = inside_.data();
-  // The spacings are positive, so their bits order like them: one unsigned comparison tells
-  // inside from outside.
-  const std::uint32_t lo_bits = detail::floatBits(lo), span = detail::floatBits(hi) - lo_bits;
-  std::size_t below = 0, m = 0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::uint32_t u = detail::floatBits(v[i]);
-    below += u < lo_bits ? 1 : 0;
-    in[m] = v[i];  // overwritten by the next one unless this one is inside
-    m += u - lo_bits <= span ? 1 : 0;
-  }
-  if (below <= k && k < below + m) return selectNth(in, m, k - below);
-  return selectNth(v, n, k);
 }
 
 void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
