@@ -82,24 +82,6 @@ RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t
   }
 }
 
-// The first position p in (b, e) whose azimuth is within `same_firing` of its predecessor's
-// (az[p] - az[p - 1] < same_firing, as removeDuplicates compares), or e. 64 at a time in a loop
-// that vectorizes, then one at a time in the block that has it.
-RC_SIMD_CLONES std::uint32_t firstWithinFiring(const float* __restrict az, std::uint32_t b, std::uint32_t e,
-                                               float same_firing)
-{
-  std::uint32_t p = b + 1;
-  for (; p + 64 <= e; p += 64)
-  {
-    unsigned any = 0;
-    for (std::uint32_t q = p; q < p + 64; ++q) any |= az[q] - az[q - 1] < same_firing ? 1u : 0u;
-    if (any != 0) break;
-  }
-  for (; p < e; ++p)
-    if (az[p] - az[p - 1] < same_firing) return p;
-  return e;
-}
-
 // The input indices i in [i0, n) with state[i] == Duplicate, ascending, to out; returns how many.
 // Branch-free: dual-return frames make the test a coin toss per point.
 std::size_t listDuplicates(const PointState* state, std::size_t i0, std::size_t n, std::uint32_t* out)
@@ -327,41 +309,32 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
   std::uint32_t w = 0;
   std::uint32_t new_begin = 0;
   std::size_t duplicates = 0, removed = 0;
-  std::uint32_t* const index = tmp_index_.data();
-  float* const az = sorted_az_.data();
   for (int n = 0; n < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     grid.ring_begin[static_cast<std::size_t>(n)] = new_begin;
-    // Runs of samples each beyond a firing of its predecessor are their own representatives: a
-    // run is found 64 samples at a time (firstWithinFiring) and moved as a block (or left in
-    // place), without the test per sample; most of a single-return ring is one run. Each
-    // firing's group is then resolved one sample at a time from its representative, the run's
-    // last sample, up to the first sample beyond that firing, which starts the next run.
-    std::uint32_t p = b;
-    while (p < e)
+    std::int64_t rep = -1;  // input index of the current representative
+    float rep_az = 0.0f;
+    for (std::uint32_t p = b; p < e; ++p)
     {
-      const std::uint32_t first = firstWithinFiring(az, p, e, same_firing);
-      if (w != p)
-      {
-        std::copy(index + p, index + first, index + w);
-        std::copy(az + p, az + first, az + w);
-      }
-      w += first - p;
-      if (first == e) break;
-      const std::size_t ri = index[w - 1];  // the representative, the run's last sample
-      const float rep_az = az[w - 1];
-      for (p = first; p < e && az[p] - rep_az < same_firing; ++p)
+      const std::uint32_t i = tmp_index_[p];
+      const float az = sorted_az_[p];
+      if (rep >= 0 && az - rep_az < same_firing)
       {
         // The first return of a firing stays on the grid (deterministic; both returns of a
         // dual-return firing lie on the same ray, so either continues the ring's curve).
-        const std::uint32_t i = index[p];
+        const std::size_t ri = static_cast<std::size_t>(rep);
         const bool same = std::fabs(prange_[i] - prange_[ri]) <= static_cast<double>(same_range);
         grid.state[i] = same ? PointState::Duplicate : PointState::SecondReturn;
         duplicates += same ? 1 : 0;  // in a register (see resolveFollowers)
         ++removed;
         grid.grid_pos[i] = static_cast<std::int32_t>(w - 1);  // the representative's grid position
+        continue;
       }
+      tmp_index_[w] = i;
+      sorted_az_[w++] = az;
+      rep = i;
+      rep_az = az;
     }
     new_begin = w;
   }
