@@ -53,15 +53,14 @@ public:
 private:
   // Scratch, every entry written before it is read: a resize need not zero-fill what exceeds
   // the last frame's size (std::vector's did, for several arrays a frame as sizes vary).
-  UninitializedVector<std::uint32_t> parent_;   // union-find forest, meaningful at run starts only
-  UninitializedVector<std::uint32_t> run_;      // start of the run of each grid position
-  UninitializedVector<std::uint32_t> run_end_;  // at each run start: the end of its run
+  UninitializedVector<std::uint32_t> parent_;   // union-find forest over the run ids
+  UninitializedVector<std::uint32_t> run_;      // run id of each grid position (unwanted label: none)
   UninitializedVector<std::uint8_t> join_;      // 1 where a position joins its predecessor's run
-  UninitializedVector<Run> runs_;               // the runs of wanted labels, in grid order
+  UninitializedVector<Run> runs_;               // the runs of wanted labels, in grid order: by id
   UninitializedVector<std::int32_t> comp_;      // at each root: component size, then primitive id or -1
-  UninitializedVector<std::uint32_t> roots_;    // the roots, in grid order
+  UninitializedVector<std::uint32_t> roots_;    // the roots (run ids), in grid order
   UninitializedVector<std::uint32_t> grid_size_; // grid points per root, then per primitive id
-  UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component (a run of its own if unwanted)
+  UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component (none if unwanted)
   UninitializedVector<std::uint32_t> dup_rank_; // points of that component before the duplicate
   UninitializedVector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
 };

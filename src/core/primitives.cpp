@@ -125,116 +125,120 @@ inline void unite(std::uint32_t* parent, std::uint32_t a, std::uint32_t b)
   b = find(parent, b);
   if (a == b) return;
   if (a < b) std::swap(a, b);
-  parent[a] = b;  // the smaller position is the root: components are numbered in scan order
+  parent[a] = b;  // the smaller run id is the root: components are numbered in scan order
 }
 
 // The loops over a ring below are functions of their own (not inlined): inside extract, with
 // its two dozen pointers and parameters live, the compiler kept the loops' pointers on the
 // stack and reloaded them in the loops.
 
-// Cuts ring [b, e) into runs from join[] (see Run): each run start becomes a root of its own,
-// the runs of wanted labels are listed. Returns the new number of listed runs.
-template <bool kMarkUnwanted>
+// Cuts ring [b, e) into runs from join[] (see Run). The runs of wanted labels are listed and
+// numbered in grid order (run ids: the union-find forest and the component counts are per run,
+// dense arrays of a few thousand entries, where per position they spread over the grid's
+// size); each run is a root of its own. Every position of an unwanted label gets the id
+// `none`. Returns the new number of listed runs.
 __attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, const Label* __restrict lab,
                                               const std::uint8_t* __restrict join, const bool* __restrict want,
-                                              std::uint32_t* __restrict parent, std::uint32_t* __restrict run,
-                                              std::uint32_t* __restrict run_end, std::int32_t* __restrict comp,
+                                              std::uint32_t none, std::uint32_t* __restrict parent,
+                                              std::uint32_t* __restrict run, std::int32_t* __restrict comp,
                                               PrimitiveExtractor::Run* __restrict runs, std::size_t num_runs)
 {
-  std::uint32_t s = b;  // start of the current run
-  bool s_wanted = want[static_cast<std::size_t>(lab[b])];
-  parent[b] = b;
-  // A component's size is counted at its root, a run start. With duplicates (kMarkUnwanted), a
-  // run of an unwanted label, a root of its own, starts far below zero: a duplicate there
-  // counts without a test and its component reads as rejected (negative). (Without, the
-  // select costs more than it saves.)
-  constexpr std::int32_t kUnwanted = kMarkUnwanted ? std::numeric_limits<std::int32_t>::min() : 0;
-  comp[b] = s_wanted ? 0 : kUnwanted;
-  run[b] = b;
-  for (std::uint32_t p = b + 1; p < e; ++p)
+  // A run's entries are written when it opens, at the next free id, whether wanted or not; an
+  // unwanted run does not take the id (the next run writes it again): no branch on the label.
+  const auto open = [lab, want, none, parent, comp, runs](std::uint32_t p, std::size_t k) {
+    const bool wanted = want[static_cast<std::size_t>(lab[p])];
+    const auto id = static_cast<std::uint32_t>(k);
+    runs[k].begin = p;
+    parent[k] = id;
+    comp[k] = 0;
+    return wanted ? id : none;
+  };
+  // (a loop per run: with one loop over positions the compiler prepared the next run's
+  // entries at every position)
+  std::uint32_t p = b;
+  do
   {
-    if (!join[p])
-    {
-      if (s_wanted) runs[num_runs++] = {s, p, 0};
-      run_end[s] = p;
-      s = p;
-      s_wanted = want[static_cast<std::size_t>(lab[p])];
-      parent[p] = p;
-      comp[p] = s_wanted ? 0 : kUnwanted;
-    }
-    run[p] = s;
-  }
-  if (s_wanted) runs[num_runs++] = {s, e, 0};
-  run_end[s] = e;
+    const std::uint32_t id = open(p, num_runs);
+    run[p] = id;
+    for (++p; p < e && join[p]; ++p) run[p] = id;
+    runs[num_runs].end = p;
+    num_runs += id != none;
+  } while (p < e);
   return num_runs;
 }
 
-// Vertical neighbours of ring n-1 [a, b) in ring n [b, e): the nearest sample in azimuth, or
-// one beside it, within Eq 19. Neighbouring runs meet many times over: the last pair of runs
-// united is remembered, and the same pair again needs no find(). (m: no run starts there.)
-RC_SIMD_CLONES __attribute__((noinline)) void verticalUnions(std::uint32_t a, std::uint32_t b, std::uint32_t e,
+// Vertical neighbours of ring n-1 (its runs [k0, k1)) in ring n [b, e): the nearest sample in
+// azimuth, or one beside it, within Eq 19. Run by run: a position of an unwanted label has no
+// run and is never visited, and a run's id, end and label are known without a look-up per
+// position. Neighbouring runs meet many times over: the last pair of runs united is
+// remembered, and the same pair again needs no find(). (none: no run has that id.)
+RC_SIMD_CLONES __attribute__((noinline)) void verticalUnions(std::uint32_t k0, std::uint32_t k1, std::uint32_t b,
+                                              std::uint32_t e, const PrimitiveExtractor::Run* __restrict runs,
                                               const Label* __restrict lab, const std::int32_t* __restrict up,
                                               const double* __restrict range, const float* __restrict azimuth,
-                                              const bool* __restrict want, bool organized, double range_ratio,
-                                              double range_min, float az_tol, std::uint32_t m,
-                                              const std::uint32_t* __restrict run,
-                                              const std::uint32_t* __restrict run_end, std::uint32_t* parent)
+                                              bool organized, double range_ratio, double range_min, float az_tol,
+                                              std::uint32_t none, const std::uint32_t* __restrict run,
+                                              std::uint32_t* parent)
 {
-  std::uint32_t last_rp = m, last_rq = m;
+  std::uint32_t last_rp = none, last_rq = none;
   const double half = range_ratio * 0.5;  // inRange's range_ratio * 0.5 * (ra + rb), left to right
   const D4 half_ratio = D4{half, half, half, half}, min4 = D4{range_min, range_min, range_min, range_min};
   const I4 abs_mask = I4{0, 0, 0, 0} + 0x7fffffffffffffffLL;
-  for (std::uint32_t p = a; p < b; ++p)
+  for (std::uint32_t rp = k0; rp < k1; ++rp)
   {
-    const Label l = lab[p];
-    if (!(want[static_cast<std::size_t>(l)] & (up[p] >= 0))) continue;  // one branch for the two tests
-    const auto uu = static_cast<std::uint32_t>(up[p]);
-    const double ra = range[p];
-    const float aa = azimuth[p];
-    const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
-    // Most positions that find no candidate fail on the range for all three (the ground,
-    // ring to ring): the three range tests first, without branches, and the label and
-    // azimuth tests in order only where one passes.
-    // (Eq 20 for the three in one vector, lane by lane the operations of inRange: fabs as a
-    // cleared sign bit, std::max(t, min) as t < min ? min : t.)
-    const D4 rb = D4{range[uu], range[c1], range[c2], range[c2]}, ra4 = D4{ra, ra, ra, ra};
-    const D4 t = half_ratio * (ra4 + rb);
-    const D4 tol = t < min4 ? min4 : t;
-    const D4 dist = reinterpret_cast<D4>(reinterpret_cast<I4>(ra4 - rb) & abs_mask);
-    const I4 out = dist > tol;  // -1 where out of range
-    if ((out[0] & out[1] & out[2]) != 0) continue;
-    const bool in0 = out[0] == 0, in1 = out[1] == 0, in2 = out[2] == 0;
-    const auto joins = [lab, l, aa, azimuth, az_tol](std::uint32_t q, bool in, bool check_azimuth) {
-      return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
-    };
-    // organized clouds: a column is one firing, beams may have their own azimuth offsets
-    std::uint32_t q = uu;
-    if (!joins(q, in0, !organized))
+    const std::uint32_t pe = runs[rp].end;
+    const Label l = lab[runs[rp].begin];
+    for (std::uint32_t p = runs[rp].begin; p < pe; ++p)
     {
-      q = c1;
-      if (!joins(q, in1, true))
+      if (up[p] < 0) continue;
+      const auto uu = static_cast<std::uint32_t>(up[p]);
+      const double ra = range[p];
+      const float aa = azimuth[p];
+      const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
+      // Most positions that find no candidate fail on the range for all three (the ground,
+      // ring to ring): the three range tests first, without branches, and the label and
+      // azimuth tests in order only where one passes.
+      // (Eq 20 for the three in one vector, lane by lane the operations of inRange: fabs as a
+      // cleared sign bit, std::max(t, min) as t < min ? min : t.)
+      const D4 rb = D4{range[uu], range[c1], range[c2], range[c2]}, ra4 = D4{ra, ra, ra, ra};
+      const D4 t = half_ratio * (ra4 + rb);
+      const D4 tol = t < min4 ? min4 : t;
+      const D4 dist = reinterpret_cast<D4>(reinterpret_cast<I4>(ra4 - rb) & abs_mask);
+      const I4 out = dist > tol;  // -1 where out of range
+      if ((out[0] & out[1] & out[2]) != 0) continue;
+      const bool in0 = out[0] == 0, in1 = out[1] == 0, in2 = out[2] == 0;
+      const auto joins = [lab, l, aa, azimuth, az_tol](std::uint32_t q, bool in, bool check_azimuth) {
+        return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
+      };
+      // organized clouds: a column is one firing, beams may have their own azimuth offsets
+      std::uint32_t q = uu;
+      if (!joins(q, in0, !organized))
       {
-        q = c2;
-        if (!joins(q, in2, true)) continue;
+        q = c1;
+        if (!joins(q, in1, true))
+        {
+          q = c2;
+          if (!joins(q, in2, true)) continue;
+        }
       }
-    }
-    const std::uint32_t rp = run[p], rq = run[q];
-    if (rp != last_rp || rq != last_rq)
-    {
-      unite(parent, rp, rq);
-      last_rp = rp;
-      last_rq = rq;
-    }
-    // The next positions of the same run whose candidates all lie in rq's run (no seam
-    // between them) can only unite what is united now: skip them untested. Runs are
-    // contiguous: rp's is [rp, run_end[rp]), and u-1, u, u+1 lie in rq's [rq, qe) when
-    // rq + 1 <= u <= qe - 2 (then also b < u and u + 1 < e): one compare a position, where
-    // reading run[] at u - 1 and u + 1 took two loads and four tests.
-    const std::uint32_t pe = run_end[rp], qe = run_end[rq];
-    if (qe - rq >= 3)
-    {
-      const std::uint32_t u_lo = rq + 1, span = qe - rq - 3;
-      while (p + 1 < pe && static_cast<std::uint32_t>(up[p + 1]) - u_lo <= span) ++p;  // u = -1 wraps: out
+      const std::uint32_t rq = run[q];  // q has p's label: a run of its own
+      if (rp != last_rp || rq != last_rq)
+      {
+        unite(parent, rp, rq);
+        last_rp = rp;
+        last_rq = rq;
+      }
+      // The next positions of the same run whose candidates all lie in rq's run (no seam
+      // between them) can only unite what is united now: skip them untested. Runs are
+      // contiguous: u-1, u, u+1 lie in rq's [qb, qe) when qb + 1 <= u <= qe - 2 (then also
+      // b < u and u + 1 < e): one compare a position, where reading run[] at u - 1 and u + 1
+      // took two loads and four tests.
+      const std::uint32_t qb = runs[rq].begin, qe = runs[rq].end;
+      if (qe - qb >= 3)
+      {
+        const std::uint32_t u_lo = qb + 1, span = qe - qb - 3;
+        while (p + 1 < pe && static_cast<std::uint32_t>(up[p + 1]) - u_lo <= span) ++p;  // u = -1 wraps: out
+      }
     }
   }
 }
@@ -270,11 +274,12 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // indices and of_grid: every entry is written below, so neither is cleared: a resize then
   // fills only what exceeds last frame's size (after a clear, resize zero-filled every index)
   out.of_grid.resize(m);
-  parent_.resize(m);
+  // at most one run per position; num_runs counts the ones in use. Id m (none): the unwanted
+  // labels' positions, one more entry in parent and comp.
+  parent_.resize(m + 1);
   run_.resize(m);
-  run_end_.resize(m);
-  runs_.resize(m);  // at most one run per position; num_runs counts the ones in use
-  comp_.resize(m);
+  runs_.resize(m);
+  comp_.resize(m + 1);
   roots_.resize(m);
   grid_size_.resize(m);
   join_.resize(m);
@@ -310,53 +315,58 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
 
   // Unions. Most angular neighbours unite, so each ring is first cut into runs (see Run): a
   // position joins its predecessor's run with a store instead of two find() calls. Only the
-  // run starts enter the union-find forest, so its chains hold run starts only. Ring n is cut
-  // before the vertical unions of ring n-1 reach into it (up[] of ring n-1 points into ring n).
+  // runs (by id, see cutRing) enter the union-find forest. Ring n is cut before the vertical
+  // unions of ring n-1 reach into it (up[] of ring n-1 points into ring n).
   std::uint32_t* const parent = parent_.data();
   std::uint32_t* const run = run_.data();
-  std::uint32_t* const run_end = run_end_.data();
   std::int32_t* const comp = comp_.data();
   Run* const runs = runs_.data();
   std::uint8_t* const join = join_.data();
-  std::size_t num_runs = 0;
+  const auto none = static_cast<std::uint32_t>(m);
+  parent[none] = none;
+  // A component's size is counted at its root. A duplicate of an unwanted label's position
+  // counts at `none`, which starts far below zero: it counts without a test and its component
+  // reads as rejected (negative).
+  comp[none] = std::numeric_limits<std::int32_t>::min();
+  std::size_t num_runs = 0, ring_runs = 0;  // ring_runs: the first run of ring n-1
   for (int n = 0; n < g.num_rings; ++n)
   {
     const std::uint32_t b = ring_begin[n], e = ring_begin[n + 1];
+    const std::size_t first_run = num_runs;
     if (b < e)
     {
       angularJoins(b, e, lab, linked, range, azimuth, num_wanted, range_ratio, range_min, az_tol, join);
-      num_runs = g.duplicates.empty() ? cutRing<false>(b, e, lab, join, want, parent, run, run_end, comp, runs, num_runs)
-                                      : cutRing<true>(b, e, lab, join, want, parent, run, run_end, comp, runs, num_runs);
+      num_runs = cutRing(b, e, lab, join, want, none, parent, run, comp, runs, num_runs);
     }
     // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
     if (e - b >= 2)
     {
       const Label l = lab[e - 1];
       if (wanted(l) && linked[b] && lab[b] == l && close(range[e - 1], azimuth[e - 1], range[b], azimuth[b], true))
-        parent[run[e - 1]] = b;
+        parent[run[e - 1]] = run[b];
     }
-    if (n == 0 || up == nullptr) continue;
-    verticalUnions(ring_begin[n - 1], b, e, lab, up, range, azimuth, want, organized, range_ratio, range_min,
-                   az_tol, static_cast<std::uint32_t>(m), run, run_end, parent);
+    if (n > 0 && up != nullptr)
+      verticalUnions(static_cast<std::uint32_t>(ring_runs), static_cast<std::uint32_t>(first_run), b, e, runs, lab,
+                     up, range, azimuth, organized, range_ratio, range_min, az_tol, none, run, parent);
+    ring_runs = first_run;
   }
 
-  // Component sizes, run by run. A root is the smallest position of its component (see unite),
-  // so it is the start of the component's first run, and path halving keeps parent[s] <= s:
-  // in grid order, parent[parent[s]] is already the root, and is stored back for the look-ups
-  // below. Roots are listed as they come, i.e. in scan order. Each run and each duplicate
+  // Component sizes, run by run. A root is the smallest run id of its component (see unite),
+  // so it is the component's first run, and path halving keeps parent[k] <= k: in grid
+  // order, parent[parent[k]] is already the root, and is stored back for the look-ups below. Roots are listed as they come, i.e. in scan order. Each run and each duplicate
   // keeps its rank among the points of its component (the count before it), which is where
   // its indices go: the fill below then needs no cursor per primitive.
   std::uint32_t* const roots = roots_.data();
   std::size_t num_roots = 0;
   for (std::size_t k = 0; k < num_runs; ++k)
   {
-    const std::uint32_t s = runs[k].begin;
-    const std::uint32_t r = parent[parent[s]];
-    parent[s] = r;
-    roots[num_roots] = s;
-    num_roots += r == s;  // without a branch: which runs start a component is data
+    const auto id = static_cast<std::uint32_t>(k);
+    const std::uint32_t r = parent[parent[id]];
+    parent[id] = r;
+    roots[num_roots] = id;
+    num_roots += r == id;  // without a branch: which runs start a component is data
     runs[k].rank = static_cast<std::uint32_t>(comp[r]);
-    comp[r] += static_cast<std::int32_t>(runs[k].end - s);
+    comp[r] += static_cast<std::int32_t>(runs[k].end - runs[k].begin);
   }
   // the grid points of each component, before the duplicates join (the box needs only those)
   std::uint32_t* const grid_size = grid_size_.data();
@@ -372,7 +382,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   for (std::size_t k = 0; k < num_dups; ++k)
   {
     const auto pos = static_cast<std::size_t>(grid_pos[dups[k]]);
-    const std::uint32_t r = parent[run[pos]];  // an unwanted label's run: comp[r] stays negative
+    const std::uint32_t r = parent[run[pos]];  // an unwanted label's position: none, comp[r] stays negative
     dup_root[k] = r;
     dup_rank[k] = static_cast<std::uint32_t>(comp[r]++);
   }
@@ -390,7 +400,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     }
     PrimitiveInfo prim;
     prim.id = static_cast<std::uint32_t>(out.primitives.size());
-    prim.label = lab[r];
+    prim.label = lab[runs[r].begin];
     prim.first = total;
     prim.num_points = size;
     total += size;
@@ -423,7 +433,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     for (std::size_t k = 0; k < num_runs; ++k)
     {
       const std::uint32_t s = runs[k].begin, t = runs[k].end;
-      const std::int32_t id = comp[parent[s]];
+      const std::int32_t id = comp[parent[k]];
       if (id < 0) continue;
       for (std::uint32_t p = written; p < s; ++p) of_grid[p] = -1;
       written = t;
