@@ -169,10 +169,10 @@ struct BinnedRing
   std::uint32_t count[kBins] = {};
   std::uint32_t more[3][kBins] = {};  // tallies of positions 1, 2, 3 mod 4, merged into count
 
-  // Counts the values per bin (no sign bit set, range from binRange); returns how many are
-  // finite. Four interleaved tallies: neighbours' values often share a bin, and with one array
-  // every increment waited for the store of the one before.
-  std::size_t countBins(const float* x, std::size_t n)
+  // Counts the values per bin (no sign bit set, range from binRange). Four interleaved tallies:
+  // neighbours' values often share a bin, and with one array every increment waited for the
+  // store of the one before.
+  void countBins(const float* x, std::size_t n)
   {
     std::size_t i = 0;
     for (; i + 4 <= n; i += 4)
@@ -190,8 +190,6 @@ struct BinnedRing
         more[0][j] = more[1][j] = more[2][j] = 0;
       }
     });
-    for (std::uint32_t b = kFiniteBins; b < kBins; ++b) n -= count[b];
-    return n;
   }
   // Zeroes this ring's counts again.
   void release()
@@ -235,20 +233,40 @@ struct BinnedRing
 // negative NaN, which the bins cannot order; the caller takes the general path then), and the
 // bins its values fall in: `lowest`, the bin of the smallest value other than +0 (zeros are
 // common, and a search up from bin 0 would cross every empty bin between them and the rest),
-// and `highest`, that of the largest finite value.
-RC_SIMD_CLONES bool binRange(const float* x, std::size_t n, std::uint32_t& lowest, std::uint32_t& highest)
+// and `highest`, that of the largest finite value. Also how many values are finite and how many
+// lie below `cut` (a finite float >= 0), both counted on the bits (exact for floats with a
+// clear sign bit; void when the answer is false).
+RC_SIMD_CLONES bool binRange(const float* x, std::size_t n, float cut, std::uint32_t& lowest, std::uint32_t& highest,
+                             std::size_t& finite, std::size_t& under)
 {
-  std::uint32_t sign = 0, low = 0xFFFFFFFFu, high = 0;
+  const std::uint32_t cut_bits = floatBits(cut);
+  std::uint32_t sign = 0, low = 0xFFFFFFFFu, high = 0, fin = 0, below = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::uint32_t u = floatBits(x[i]);
     sign |= u;
     low = std::min(low, u - 1);  // +0 wraps to the top
     high = std::max(high, u & detail::maskOf(u < 0x7F800000u));  // finite only (a mask: vectorizes)
+    fin += u < 0x7F800000u ? 1u : 0u;
+    below += u < cut_bits ? 1u : 0u;
   }
   lowest = (low + 1) >> kBinShift;
   highest = high >> kBinShift;
+  finite = fin;
+  under = below;
   return (sign >> 31) == 0;
+}
+
+// The largest cut (roughly) such that a median and a MAD both at most `cut` give
+// median + scale * MAD < out, evaluated as binnedMedianPlusKMad does (0 when none is found: no
+// value lies below it).
+float floorCut(float out, float scale)
+{
+  if (!(scale >= 0.0f) || !(out > 0.0f) || !std::isfinite(out)) return 0.0f;
+  float cut = out / (1.0f + scale);
+  for (int i = 0; i < 4; ++i, cut *= 0.999f)
+    if (cut + scale * cut < out) return cut;
+  return 0.0f;
 }
 
 // Lane orders that move the lanes of an 8-bit mask's set bits to the front, in order.
@@ -398,11 +416,13 @@ struct DeviationWalk
   std::size_t seen;
   float d;
 };
+// (Distances upwards from `from_up` and downwards from `from_dn`: both med here, the edges of
+// med's bin in deviationCeiling.)
 template <bool kUpper>
-inline void deviationStep(const BinnedRing& r, std::uint32_t lowest, float med, DeviationWalk& w)
+inline void deviationStep(const BinnedRing& r, std::uint32_t lowest, float from_up, float from_dn, DeviationWalk& w)
 {
-  const float d_up = w.up < kFiniteBins ? (kUpper ? highEdge(w.up) : lowEdge(w.up)) - med : kInf;
-  const float d_dn = w.dn > 0 ? med - (kUpper ? lowEdge(w.dn - 1) : highEdge(w.dn - 1)) : kInf;
+  const float d_up = w.up < kFiniteBins ? (kUpper ? highEdge(w.up) : lowEdge(w.up)) - from_up : kInf;
+  const float d_dn = w.dn > 0 ? from_dn - (kUpper ? lowEdge(w.dn - 1) : highEdge(w.dn - 1)) : kInf;
   const bool take_up = d_up <= d_dn;
   w.d = take_up ? d_up : d_dn;
   w.seen += r.count[take_up ? w.up : w.dn - 1];
@@ -422,13 +442,28 @@ void deviationBounds(const BinnedRing& r, std::uint32_t med_bin, float med, std:
   b.d = own;
   while (a.seen <= rank && b.seen <= rank)
   {
-    deviationStep<false>(r, lowest, med, a);
-    deviationStep<true>(r, lowest, med, b);
+    deviationStep<false>(r, lowest, med, med, a);
+    deviationStep<true>(r, lowest, med, med, b);
   }
-  while (a.seen <= rank) deviationStep<false>(r, lowest, med, a);
-  while (b.seen <= rank) deviationStep<true>(r, lowest, med, b);
+  while (a.seen <= rank) deviationStep<false>(r, lowest, med, med, a);
+  while (b.seen <= rank) deviationStep<true>(r, lowest, med, med, b);
   lo = a.d;  // 0 where med's own bin holds the rank
   hi = std::max(b.d, own);
+}
+
+// An upper bound of the MAD whatever the median in bin med_bin: a value of bin j deviates from
+// any median of med_bin by at most the distance between their farthest edges (float subtraction
+// is monotonic), and the bins taken outwards in increasing order of that bound until more than
+// `rank` values are taken leave the rank-th deviation at or below the last bound taken. The same
+// walk as deviationBounds, from the histogram alone: no exact median needed.
+float deviationCeiling(const BinnedRing& r, std::uint32_t med_bin, std::size_t rank)
+{
+  const float top = highEdge(med_bin), bottom = lowEdge(med_bin);
+  const std::uint32_t lowest = r.lowest > 1 ? r.lowest : kBins;  // (kBins: no jump)
+  DeviationWalk w{med_bin + 1 > r.highest ? kFiniteBins : med_bin + 1, med_bin == lowest ? 1 : med_bin,
+                  r.count[med_bin], top - bottom};
+  while (w.seen <= rank) deviationStep<true>(r, lowest, bottom, top, w);
+  return w.d;
 }
 
 // Value of rank k in c[0, m) (m > k), the wanted bins' values. Few: counted for each value, those
@@ -453,14 +488,14 @@ float selectCandidate(float* c, std::size_t m, std::size_t k)
 // Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
 RC_SIMD_CLONES bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
 {
-  if (!binRange(x, n, r.lowest, r.highest)) return false;
-  const std::size_t finite = r.countBins(x, n);
+  std::size_t finite, under;
+  if (!binRange(x, n, 0.0f, r.lowest, r.highest, finite, under)) return false;
   if (finite == 0)
   {
     lo = hi = kInf;  // nothing finite: no point passes a "greater than" test
-    r.release();
     return true;
   }
+  r.countBins(x, n);
   const std::size_t k_lo = rankOf(finite, 0.25), k_hi = rankOf(finite, 0.75);
   std::size_t below_lo = 0;
   const std::uint32_t b_lo = r.findFirst(k_lo, below_lo);
@@ -479,16 +514,28 @@ RC_SIMD_CLONES bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r
 // is finite); false when they need the general path.
 RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
 {
-  if (!binRange(x, n, r.lowest, r.highest)) return false;
-  const std::size_t finite = r.countBins(x, n);
-  if (finite == 0)
+  // The floor `out` usually wins (a ring's typical roughness or jump lies far below what noise
+  // alone can produce): when upper bounds of the median and the MAD give less than `out`, so
+  // does the exact value (float + and * by a scale >= 0 are monotonic), and the work for it is
+  // skipped. `<`: max(v, out) is then out. First from two counts: if more than `rank` values lie
+  // below `cut`, the median does, and so do the deviations of those values from it (both in
+  // [0, cut)), so the MAD is at most cut: no histogram at all.
+  const float scale = k * kMadToSigma;
+  std::size_t finite, under;
+  if (!binRange(x, n, floorCut(out, scale), r.lowest, r.highest, finite, under)) return false;
+  if (finite == 0) return true;  // nothing counted yet: no histogram to release
+  const std::size_t rank = rankOf(finite, 0.5);
+  if (under > rank) return true;
+  r.countBins(x, n);
+  std::size_t below = 0;
+  const std::uint32_t b = r.findFirst(rank, below);
+  // Then from the histogram: the median's bin and the MAD's ceiling (deviationCeiling); when
+  // they suffice, the two passes over the ring and the two selections are skipped.
+  if (scale >= 0.0f && highEdge(b) + scale * deviationCeiling(r, b, rank) < out)
   {
     r.release();
     return true;
   }
-  const std::size_t rank = rankOf(finite, 0.5);
-  std::size_t below = 0;
-  const std::uint32_t b = r.findFirst(rank, below);
   std::size_t m = binCandidates(x, n, b, b, r.cand);
   const float med = selectCandidate(r.cand, m, rank - below);
   float lo, hi;
@@ -496,7 +543,7 @@ RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k,
   r.release();
   m = bandCandidates(x, n, med, lo, hi, r.cand, below);
   const float mad = selectCandidate(r.cand, m, rank - below);
-  out = std::max(med + k * kMadToSigma * mad, out);
+  out = std::max(med + scale * mad, out);  // (k * kMadToSigma * mad: the same product)
   return true;
 }
 }  // namespace
