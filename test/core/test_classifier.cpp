@@ -156,6 +156,63 @@ TEST(Classifier, RingThresholdsMatchNthElementReference)
   }
 }
 
+TEST(Classifier, RobustFloorsMatchTheExactThresholds)
+{
+  // The robust mode decides "the floor wins" from upper bounds of the median and MAD where it
+  // can (two counts, or the histogram) and computes them exactly otherwise: with floors below,
+  // near and above each ring's exact median + k MAD, every threshold must equal the reference.
+  std::mt19937 rng(11);
+  ScanGrid grid;
+  Features f;
+  grid.ring_begin.push_back(0);
+  for (std::size_t n : {3u, 40u, 300u, 2000u})
+    for (int kind = 0; kind < kKinds; ++kind)
+      for (int scale = 0; scale < 3; ++scale)  // the same shapes at three magnitudes
+      {
+        const float s = std::array<float, 3>{1e-3f, 1.0f, 30.0f}[static_cast<std::size_t>(scale)];
+        for (std::size_t i = 0; i < n; ++i)
+        {
+          f.turning.push_back(rng() % 16 == 0 ? kNaN : s * testValue(rng, kind));
+          f.curvature.push_back(kNaN);
+          f.smoothness.push_back(rng() % 16 == 0 ? kNaN : s * testValue(rng, kind));
+          f.discontinuity.push_back(rng() % 16 == 0 ? kNaN : s * testValue(rng, kind));
+        }
+        grid.ring_begin.push_back(static_cast<std::uint32_t>(f.turning.size()));
+      }
+  grid.num_rings = static_cast<int>(grid.ring_begin.size()) - 1;
+  auto exact = [&](const std::vector<float>& feature, int ring, float k, float floor) {
+    std::vector<float> v;
+    for (std::uint32_t p = grid.ring_begin[ring]; p < grid.ring_begin[ring + 1]; ++p)
+      if (std::isfinite(feature[p])) v.push_back(feature[p]);
+    if (v.empty()) return floor;
+    const float med = selectQuantile(std::vector<float>(v).data(), v.size(), 0.5);
+    for (float& x : v) x = std::fabs(x - med);
+    return std::max(med + k * 1.4826f * selectQuantile(v.data(), v.size(), 0.5), floor);
+  };
+  Classifier c;
+  std::vector<RingThresholds> thr;
+  for (float k : {0.0f, 3.0f})
+    for (float floor : {1e-6f, 1e-4f, 1e-3f, 3e-3f, 0.01f, 0.03f, 0.1f, 0.3f, 1.0f, 3.0f, 10.0f, 100.0f})
+    {
+      Params P;
+      P.robust_k = k;
+      P.edge_min_angle_deg = floor / 0.0174532925f;
+      P.jump_min_ratio = floor;
+      P.noise_floor_k = 1.0f;
+      P.range_noise = std::sqrt(floor);
+      c.computeThresholds(grid, f, P, thr);
+      const float turn_floor = P.edge_min_angle_deg * 0.0174532925f;
+      const float smooth_floor = (P.noise_floor_k * P.range_noise) * (P.noise_floor_k * P.range_noise);
+      for (int ring = 0; ring < grid.num_rings; ++ring)
+      {
+        const RingThresholds& t = thr[static_cast<std::size_t>(ring)];
+        EXPECT_EQ(t.curvature_high, exact(f.turning, ring, k, turn_floor)) << ring << " " << floor;
+        EXPECT_EQ(t.smoothness_high, exact(f.smoothness, ring, k, smooth_floor)) << ring << " " << floor;
+        EXPECT_EQ(t.discontinuity_high, exact(f.discontinuity, ring, k, floor)) << ring << " " << floor;
+      }
+    }
+}
+
 TEST(Classifier, LabelsFollowTheRulesPointByPoint)
 {
   // The vectorized labelling against the rules written out per point, in every mode and
