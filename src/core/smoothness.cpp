@@ -5,6 +5,10 @@
 
 #include "simd_clones.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -161,7 +165,25 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
     // The index as a double counter (exact: E < 2^53), not converted from size_t per step.
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, ed = 0.0;
     const double* const rs = rp - ext;  // the seam extensions are in the padding
-    for (std::size_t e = 0; e < E; ++e, ed += 1.0)
+    std::size_t e = 0;
+#if defined(__SSE2__)
+    // Two samples a step, each array's two sums stored by one 16-byte store: the three stores a
+    // sample (one per array, each to its own cache line) bounded the loop, not the additions
+    // (perf: ringSmoothness's share -18 % on the 29k-point frames and KITTI, -11 % on OS1-128).
+    // The second sample's sums are the first's plus its terms, as in the loop below.
+    for (; e + 2 <= E; e += 2, ed += 2.0)
+    {
+      const double r = rs[e], q = rs[e + 1];
+      const double a0 = s0 + r, a1 = s1 + ed * r, a2 = s2 + r * r;
+      s0 = a0 + q;
+      s1 = a1 + (ed + 1.0) * q;
+      s2 = a2 + q * q;
+      _mm_storeu_pd(S0 + e + 1, _mm_set_pd(s0, a0));
+      _mm_storeu_pd(S1 + e + 1, _mm_set_pd(s1, a1));
+      _mm_storeu_pd(S2 + e + 1, _mm_set_pd(s2, a2));
+    }
+#endif
+    for (; e < E; ++e, ed += 1.0)
     {
       const double r = rs[e];
       s0 += r;
