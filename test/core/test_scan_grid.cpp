@@ -300,15 +300,16 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   EXPECT_EQ(gd.num_duplicates, gr.num_duplicates);
   EXPECT_EQ(gd.num_second_returns, gr.num_second_returns);
   EXPECT_EQ(gd.azimuth_resolution, gr.azimuth_resolution);
-  // where each item of the dual order sits in the reference
-  std::vector<std::size_t> at(dual_order.size());
-  {
-    std::vector<std::size_t> ids(dual_order.size());
+  // where each item of the dual order sits in an order sorted stably by `key`
+  const auto positions_by = [&](auto key) {
+    std::vector<std::size_t> ids(dual_order.size()), pos(dual_order.size());
     std::iota(ids.begin(), ids.end(), 0);
     std::stable_sort(ids.begin(), ids.end(),
-                     [&](std::size_t u, std::size_t v) { return ref_key(dual_order[u]) < ref_key(dual_order[v]); });
-    for (std::size_t q = 0; q < ids.size(); ++q) at[ids[q]] = q;
-  }
+                     [&](std::size_t u, std::size_t v) { return key(dual_order[u]) < key(dual_order[v]); });
+    for (std::size_t q = 0; q < ids.size(); ++q) pos[ids[q]] = q;
+    return pos;
+  };
+  const std::vector<std::size_t> at = positions_by(ref_key);  // in the reference
   std::size_t same = 0;
   for (std::size_t i = 0; i < dual_order.size(); ++i)
   {
@@ -344,14 +345,7 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   EXPECT_EQ(gl.num_duplicates, gr.num_duplicates);
   EXPECT_EQ(gl.num_second_returns, gr.num_second_returns);
   // the late order and the reference both keep the dual order within each (ring, rank) group
-  std::vector<std::size_t> late_at(dual_order.size());
-  {
-    std::vector<std::size_t> ids(dual_order.size());
-    std::iota(ids.begin(), ids.end(), 0);
-    std::stable_sort(ids.begin(), ids.end(),
-                     [&](std::size_t u, std::size_t v) { return late_key(dual_order[u]) < late_key(dual_order[v]); });
-    for (std::size_t q = 0; q < ids.size(); ++q) late_at[ids[q]] = q;
-  }
+  const std::vector<std::size_t> late_at = positions_by(late_key);
   std::size_t late_same = 0;
   for (std::size_t i = 0; i < dual_order.size(); ++i)
   {
