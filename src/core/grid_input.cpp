@@ -95,16 +95,15 @@ RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const flo
 // bit; "x < 0" is "bits in (0x80000000, 0xff800000]", i.e. signed in (INT_MIN, -0x800000]).
 __attribute__((target("avx2"))) inline __m256 fastAtan2Avx2(__m256 y, __m256 x)
 {
-  const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u)), inf = _mm256_set1_epi32(0x7f800000);
+  const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u));
+  const __m256i above_inf = _mm256_set1_epi32(0x7f800001);  // bits < above_inf: not above +inf
   const __m256i sx = _mm256_castps_si256(x), sy = _mm256_castps_si256(y);
   const __m256i bx = _mm256_andnot_si256(sign, sx), by = _mm256_andnot_si256(sign, sy);  // |x|, |y|
-  const __m256i not_above_inf_x = _mm256_cmpgt_epi32(_mm256_add_epi32(inf, _mm256_set1_epi32(1)), bx);
-  const __m256i not_above_inf_y = _mm256_cmpgt_epi32(_mm256_add_epi32(inf, _mm256_set1_epi32(1)), by);
-  const __m256i x_lt_y = _mm256_and_si256(_mm256_cmpgt_epi32(by, bx), not_above_inf_y);
-  const __m256i y_lt_x = _mm256_and_si256(_mm256_cmpgt_epi32(bx, by), not_above_inf_x);
+  const __m256i x_lt_y = _mm256_and_si256(_mm256_cmpgt_epi32(by, bx), _mm256_cmpgt_epi32(above_inf, by));
+  const __m256i y_lt_x = _mm256_and_si256(_mm256_cmpgt_epi32(bx, by), _mm256_cmpgt_epi32(above_inf, bx));
   const __m256i mx = _mm256_blendv_epi8(bx, by, x_lt_y), mn = _mm256_blendv_epi8(bx, by, y_lt_x);
   const __m256i nonzero = _mm256_and_si256(_mm256_cmpgt_epi32(mx, _mm256_setzero_si256()),
-                                           _mm256_cmpgt_epi32(_mm256_add_epi32(inf, _mm256_set1_epi32(1)), mx));
+                                           _mm256_cmpgt_epi32(above_inf, mx));
   const __m256 one = _mm256_set1_ps(1.0f);
   const __m256 a = _mm256_div_ps(_mm256_castsi256_ps(mn), _mm256_blendv_ps(one, _mm256_castsi256_ps(mx),
                                                                           _mm256_castsi256_ps(nonzero)));
@@ -266,10 +265,10 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
       const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
       const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
       readRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
-                     static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
-                     static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
-                     prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
-                     ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
+                  static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
+                  static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
+                  prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
+                  ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
       if (!view.ring.present()) continue;
       const std::uint8_t* rec = data + view.ring.offset;
       if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after

@@ -5,6 +5,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "cloud_view_checks.hpp"
+#include "compress_table.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
 
@@ -96,26 +97,11 @@ std::size_t listDuplicates(const PointState* state, std::size_t i0, std::size_t 
 }
 
 #if defined(RC_SIMD_CLONES_ON)
-// The byte offsets (0 to 7) of the set bits of each 8-bit mask, packed from the low byte up.
-struct SetBitOffsets
-{
-  std::uint64_t of[256];
-  constexpr SetBitOffsets() : of()
-  {
-    for (unsigned m = 0; m < 256; ++m)
-    {
-      unsigned k = 0;
-      for (unsigned b = 0; b < 8; ++b)
-        if ((m >> b) & 1u) of[m] |= static_cast<std::uint64_t>(b) << (8 * k++);
-    }
-  }
-};
-constexpr SetBitOffsets kSetBitOffsets{};
-
-// listDuplicates eight states at a time: their Duplicate mask picks the offsets to store from a
-// table, and the count moves by its popcount (one store of eight indices, where the plain loop
-// made one store and one dependent count update per point; ~1 % of a dual-return frame).
-// Writes up to 7 entries past the count (the caller leaves room). Returns (points done, count).
+// listDuplicates eight states at a time: their Duplicate mask picks the offsets to store from
+// the compress table (compress_table.hpp), and the count moves by its popcount (one store of
+// eight indices, where the plain loop made one store and one dependent count update per point;
+// ~1 % of a dual-return frame). Writes up to 7 entries past the count (the caller leaves room).
+// Returns the count, and in `done` the points it went through.
 __attribute__((target("avx2,popcnt"))) std::size_t listDuplicatesAvx2(const PointState* state, std::size_t n,
                                                                         std::uint32_t* out, std::size_t& done)
 {
@@ -125,7 +111,7 @@ __attribute__((target("avx2,popcnt"))) std::size_t listDuplicatesAvx2(const Poin
   {
     const __m128i s = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(state + i));
     const auto mask = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(s, dup))) & 0xFFu;
-    const __m256i offsets = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kSetBitOffsets.of[mask])));
+    const __m256i offsets = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[mask]));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + count),
                         _mm256_add_epi32(offsets, _mm256_set1_epi32(static_cast<int>(i))));
     count += static_cast<std::size_t>(__builtin_popcount(mask));

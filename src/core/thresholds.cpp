@@ -1,5 +1,6 @@
 // Per-ring thresholds by exact O(K) selection (never a sort): the quantiles of Algorithm 1 and the robust median + k MAD.
 #include "ring_curvature/classifier.hpp"
+#include "compress_table.hpp"
 #include "simd_clones.hpp"
 
 #include <algorithm>
@@ -268,21 +269,6 @@ float floorCut(float out, float scale)
     if (cut + scale * cut < out) return cut;
   return 0.0f;
 }
-
-// Lane orders that move the lanes of an 8-bit mask's set bits to the front, in order.
-struct CompressTable
-{
-  std::int32_t lane[256][8];
-};
-constexpr CompressTable makeCompressTable()
-{
-  CompressTable t{};
-  for (int mask = 0; mask < 256; ++mask)
-    for (int l = 0, j = 0; l < 8; ++l)
-      if ((mask >> l) & 1) t.lane[mask][j++] = l;
-  return t;
-}
-constexpr CompressTable kCompress = makeCompressTable();
 
 // Eight lanes (GCC vector extension, element-wise: the same bits as scalar code; AVX2 in the
 // AVX2 clones, with one lane permutation for the copy-out).
