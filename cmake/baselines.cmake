@@ -58,3 +58,19 @@ target_link_libraries(benchmark_nodelet ${catkin_LIBRARIES})
 add_dependencies(benchmark_nodelet ${PROJECT_NAME}_generate_messages_cpp)
 target_compile_options(benchmark_nodelet PRIVATE ${RC_WARNINGS})
 install(TARGETS benchmark_nodelet RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# In-process A/B timing of two builds of the core (src/tools/ab_core.sh). ab_core does not link
+# the core: it loads two builds of it, each with its own copy of the shim, into two link
+# namespaces. Every build carries the shim compiled against its own headers; ab_core.sh
+# compiles one for a build that lacks it.
+add_library(ring_curvature_ab_shim SHARED src/tools/ab_shim.cpp)
+target_link_libraries(ring_curvature_ab_shim ring_curvature_core)
+target_compile_options(ring_curvature_ab_shim PRIVATE ${RC_WARNINGS})
+add_executable(ab_core src/tools/ab_core.cpp)
+target_include_directories(ab_core SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(ab_core ${catkin_LIBRARIES} ${CMAKE_DL_LIBS})
+target_compile_options(ab_core PRIVATE ${RC_WARNINGS})
+install(TARGETS ring_curvature_ab_shim
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(TARGETS ab_core RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -1,0 +1,135 @@
+// One build's side of ab_core: ring_curvature::Pipeline behind the C interface of ab_shim.h.
+// Compiled once per build against that build's own headers (src/tools/ab_core.sh does it for a
+// build that lacks libring_curvature_ab_shim.so), so the Pipeline and FrameResult it allocates
+// have that build's layout, whatever the other build's is.
+#include "ab_shim.h"
+
+#include <algorithm>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "ring_curvature/pipeline.hpp"
+
+namespace rc = ring_curvature;
+
+namespace
+{
+
+// Owned together: the result's buffers are reused frame after frame, as in the nodelet, so
+// that the timed call allocates nothing once warm.
+struct Session
+{
+  rc::Pipeline pipeline;
+  rc::FrameResult result;
+};
+
+rc::FieldView toField(const RcAbField& f)
+{
+  rc::FieldView v;
+  v.offset = f.offset;
+  v.type = static_cast<rc::ScalarType>(f.type);
+  return v;
+}
+
+// FNV-1a over bytes: a fingerprint of the outputs, so that ab_core can tell whether both builds
+// computed the same thing (an A/B timing of two builds with different outputs compares
+// different work).
+void hashBytes(std::uint64_t& h, const void* data, std::size_t n)
+{
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    h ^= p[i];
+    h *= 1099511628211ull;
+  }
+}
+
+template <typename T>
+void hashVector(std::uint64_t& h, const std::vector<T>& v)
+{
+  hashBytes(h, v.data(), v.size() * sizeof(T));
+}
+
+std::uint64_t outputHash(const rc::FrameResult& r)
+{
+  std::uint64_t h = 14695981039346656037ull;
+  hashVector(h, r.label);
+  hashVector(h, r.curvature);
+  hashVector(h, r.smoothness);
+  hashVector(h, r.discontinuity);
+  hashVector(h, r.primitive);
+  const std::uint64_t n = r.primitives.primitives.size();
+  hashBytes(h, &n, sizeof n);
+  return h;
+}
+
+}  // namespace
+
+extern "C" {
+
+int rc_ab_version(void) { return RC_AB_SHIM_VERSION; }
+
+// Nothing may unwind across the C interface (ab_core runs another copy of libstdc++, in another
+// link namespace): failures become return values.
+void* rc_ab_create(void)
+{
+  try
+  {
+    return new Session();
+  }
+  catch (...)
+  {
+    return nullptr;
+  }
+}
+
+int rc_ab_process(void* pipeline, const RcAbCloud* cloud, RcAbResult* result, int want_hash, char* err,
+                  size_t err_size)
+{
+  auto* s = static_cast<Session*>(pipeline);
+  rc::PointCloudView v;
+  v.data = cloud->data;
+  v.data_size = cloud->data_size;
+  v.width = cloud->width;
+  v.height = cloud->height;
+  v.point_step = cloud->point_step;
+  v.row_step = cloud->row_step;
+  v.x = toField(cloud->x);
+  v.y = toField(cloud->y);
+  v.z = toField(cloud->z);
+  v.ring = toField(cloud->ring);
+  v.time = toField(cloud->time);
+  v.intensity = toField(cloud->intensity);
+
+  rc::Status st;
+  try
+  {
+    st = s->pipeline.process(v, s->result);
+  }
+  catch (const std::exception& e)
+  {
+    st = rc::Status::error(std::string("exception: ") + e.what());
+  }
+  if (!st)
+  {
+    if (err && err_size > 0)
+    {
+      const std::size_t n = std::min(err_size - 1, st.message.size());
+      std::memcpy(err, st.message.data(), n);
+      err[n] = '\0';
+    }
+    return 1;
+  }
+  const rc::StageTimes& t = s->result.times;
+  const double stages[RC_AB_STAGES] = {t.grid, t.features, t.thresholds, t.classification, t.primitives, t.output};
+  std::copy(stages, stages + RC_AB_STAGES, result->stage_ms);
+  result->primitives = s->result.primitives.primitives.size();
+  result->output_hash = want_hash ? outputHash(s->result) : 0;
+  return 0;
+}
+
+void rc_ab_destroy(void* pipeline) { delete static_cast<Session*>(pipeline); }
+
+}  // extern "C"
