@@ -90,6 +90,15 @@ private:
     std::uint32_t point, of;
   };
   void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
+  /// Where ring r's keys start in the scatter (keys_tmp_): after two sentinel keys per ring.
+  static std::uint32_t ringBase(const ScanGrid& grid, std::size_t r)
+  {
+    return grid.ring_begin[r] + 2 * static_cast<std::uint32_t>(r + 1);
+  }
+  /// Scatters points [from, to) of rings interleaved point by point, folding identical returns
+  /// when kFold; returns the new number of followers (ring_sort.cpp).
+  template <bool kFold>
+  std::size_t scatterInterleaved(std::size_t from, std::size_t to, std::size_t num_followers);
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);

@@ -62,10 +62,18 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
   std::size_t m = grid.ring_begin[R];
   keys_.resize(m);
-  keys_tmp_.resize(m);
-  bin_start_.assign(grid.ring_begin.begin(), grid.ring_begin.end());
+  //    Each ring's keys start at ringBase(grid, r), after two sentinel keys of its own (see
+  //    scatterInterleaved).
+  keys_tmp_.resize(m + 2 * R);
+  bin_start_.resize(R + 1);
   std::uint32_t* const next = bin_start_.data();
   std::uint64_t* const unsorted = keys_tmp_.data();
+  prange_[n] = -1.0;  // no point's range: the sentinels' (readPoints leaves room for it)
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    next[r] = ringBase(grid, r);
+    unsorted[next[r] - 1] = unsorted[next[r] - 2] = n;  // azimuth key 0, index n
+  }
   //    The sort by ring also folds identical returns (in the same pass, or right after it for
   //    rings interleaved point by point; see below). Dual-return drivers send both returns of a firing,
   //    identical where the beam met one surface (half the points of a dual-return VLP-16
@@ -123,34 +131,18 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   constexpr std::size_t kFoldProbe = 4096;
   // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
   // come, with the current ring's state in registers. Rings interleaved point by point
-  // (velodyne firing order) are first scattered whole, and then each ring is folded in place,
-  // again with its state in registers: folded as they came, every point loaded and stored its
-  // ring's state in memory, which cost more than the second pass.
+  // (velodyne firing order) are folded as they are scattered, with the ring's output as its
+  // state (scatterInterleaved).
   std::size_t changes = 0;
   for (std::size_t i = 1; i < n; ++i) changes += ring_of[i] != ring_of[i - 1] ? 1 : 0;
   if (changes > n / 8)
   {
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const std::int32_t r = ring_of[i];
-      if (r >= 0) unsorted[next[r]++] = sortKey(paz[i], i);
-    }
-    std::size_t probed = 0;
-    bool folding = fold_identical;
-    for (std::size_t r = 0; r < R && folding; ++r)
-    {
-      // The ring's keys are in input order (the scatter is stable): `place` sees the same
-      // sequence as in the loop below, and writes the kept keys back over the ring's front.
-      // (The bounds in locals: a follower's stores could alias next[], which the loop would
-      // otherwise reload at every point.)
-      const std::uint32_t b = grid.ring_begin[r], e = next[r];
-      RingFold f{};
-      std::uint32_t w = b;
-      for (std::uint32_t j = b; j < e; ++j) place(unsorted[j], f, w, std::true_type{});
-      probed += e - b;
-      next[r] = w;
-      folding = probed < kFoldProbe || num_followers > 0;
-    }
+    // Scattered and folded in one pass (scatterInterleaved): the ring's last two kept keys are
+    // the last two written to it. Probed as below, in input order.
+    const std::size_t probe = fold_identical ? std::min(n, kFoldProbe) : 0;
+    num_followers = scatterInterleaved<true>(0, probe, 0);
+    num_followers = num_followers > 0 ? scatterInterleaved<true>(probe, n, num_followers)
+                                      : scatterInterleaved<false>(probe, n, 0);
   }
   else
   {
@@ -198,11 +190,11 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    The rings close up over the folded points as they are sorted.
   //    (The kept counts are taken first: sortRing's bucket sort reuses bin_start_, i.e. next.)
   ring_kept_.resize(R);
-  for (std::size_t r = 0; r < R; ++r) ring_kept_[r] = next[r] - grid.ring_begin[r];
+  for (std::size_t r = 0; r < R; ++r) ring_kept_[r] = next[r] - ringBase(grid, r);
   std::uint32_t kept = 0;
   for (std::size_t r = 0; r < R; ++r)
   {
-    const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];
+    const std::uint32_t b = ringBase(grid, r), k = ring_kept_[r];
     grid.ring_begin[r] = kept;
     sortRing(unsorted + b, keys_.data() + kept, k);
     kept += k;
@@ -216,6 +208,58 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     tmp_index_[p] = keyIndex(keys_[p]);
     sorted_az_[p] = keyAzimuth(keys_[p]);
   }
+}
+
+template <bool kFold>
+std::size_t ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to, std::size_t num_followers)
+{
+  // Points [from, to) in input order into their rings' next slots, folding (kFold) on the way:
+  // the ring's last two kept keys are the two before its next slot (or its sentinels), so its
+  // fold state is its output itself, and the twins' ranges are those of points read a few
+  // dozen points before. Scattered whole and then folded ring by ring (until session 7), every
+  // key went through memory twice; kept in a state per ring (RingFold), every point loaded and
+  // stored six fields. Every point's key and follower entry are written, and the slot and the
+  // count advance by the verdict. (Restrict locals: a follower's stores could alias next[],
+  // which would be reloaded.)
+  const std::int32_t* __restrict const ring_of = ring_of_.data();
+  const float* __restrict const paz = paz_.data();
+  const double* __restrict const prange = prange_.data();
+  std::uint32_t* __restrict const next = bin_start_.data();
+  std::uint64_t* __restrict const unsorted = keys_tmp_.data();
+  Follower* __restrict const followers = followers_.data();
+  const auto rangeBits = [prange](std::uint32_t i) {
+    std::uint64_t b;
+    std::memcpy(&b, &prange[i], sizeof b);
+    return b;
+  };
+  for (std::size_t i = from; i < to; ++i)
+  {
+    const std::int32_t r = ring_of[i];
+    if (r < 0) continue;
+    const std::uint64_t key = sortKey(paz[i], i);
+    const std::uint32_t w = next[r];
+    unsorted[w] = key;
+    if constexpr (kFold)
+    {
+      // Compared as bits, in integer registers: for these values that is the float comparison
+      // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
+      // finite, and the sentinels' -1 matches none), without ucomis / setnp pairs.
+      // (Each test is one comparison of the differences' bits.)
+      const std::uint64_t k1 = unsorted[w - 1], k2 = unsorted[w - 2];
+      const std::uint64_t range = rangeBits(static_cast<std::uint32_t>(i));
+      const bool same1 = (((key ^ k1) >> 32) | (range ^ rangeBits(keyIndex(k1)))) == 0;
+      const bool same2 = (((key ^ k2) >> 32) | (range ^ rangeBits(keyIndex(k2)))) == 0;
+      const bool same = same1 | same2;
+      followers[num_followers] = {static_cast<std::uint32_t>(i), keyIndex(same1 ? k1 : k2)};
+      num_followers += same ? 1 : 0;
+      next[r] = w + (same ? 0 : 1);  // a follower's key is overwritten by the ring's next one
+    }
+    else
+    {
+      next[r] = w + 1;
+    }
+  }
+  return num_followers;
 }
 
 void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)

@@ -353,6 +353,36 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
     late_same += gl.state[l] == gr.state[j] && rl.label[l] == rr.label[j] && rl.primitive[l] == rr.primitive[j] ? 1 : 0;
   }
   EXPECT_EQ(late_same, dual_order.size());
+
+  // Velodyne's firing order: the rings interleaved, a firing pair's returns of every ring in
+  // turn, each ring's own sequence still the dual order. Folded in the scatter by ring (a ring's
+  // last two kept points are the last two written to it), with the same verdicts.
+  const auto firing_key = [per_ring](const Item& it) {
+    return std::make_pair((it.from % per_ring) / 2, it.from / per_ring);
+  };
+  std::vector<Item> firing_order = dual_order;
+  std::stable_sort(firing_order.begin(), firing_order.end(),
+                   [&](const Item& u, const Item& v) { return firing_key(u) < firing_key(v); });
+  const SyntheticCloud firing = build(firing_order);
+  Pipeline pf;
+  FrameResult rf;
+  ASSERT_TRUE(pf.process(firing.view(), rf).ok);
+  const ScanGrid& gf = pf.grid();
+  EXPECT_EQ(gf.num_folded, gd.num_folded);  // the same copies, found in the same places of their ring
+  EXPECT_EQ(gf.num_duplicates, gr.num_duplicates);
+  EXPECT_EQ(gf.num_second_returns, gr.num_second_returns);
+  EXPECT_EQ(gf.azimuth_resolution, gr.azimuth_resolution);
+  const std::vector<std::size_t> firing_at = positions_by(firing_key);
+  std::size_t firing_same = 0;
+  for (std::size_t i = 0; i < dual_order.size(); ++i)
+  {
+    const std::size_t q = firing_at[i], j = at[i];
+    firing_same += gf.state[q] == gr.state[j] && rf.label[q] == rr.label[j] && rf.primitive[q] == rr.primitive[j] &&
+                           std::memcmp(&rf.curvature[q], &rr.curvature[j], sizeof(float)) == 0
+                       ? 1
+                       : 0;
+  }
+  EXPECT_EQ(firing_same, dual_order.size());
 }
 
 TEST(ScanGrid, OrganizedCloudUsesRowsAndColumns)
