@@ -64,6 +64,26 @@ struct ScanGrid
   int ringOf(std::uint32_t pos) const;
 };
 
+/// The grid's measured azimuth resolution from the spacings d[0, total) of neighbouring samples
+/// on a ring (each |difference| >= 0, or NaN): the median of the kept ones (above 1e-5 rad: not
+/// a same-firing duplicate; below 5 deg: not a gap), i.e. the element of rank n / 2 of the n
+/// kept, as nth_element would give; `none` when none is kept. Keeps its scratch between frames
+/// (grid_resolution.cpp; a class of its own so that the tests reach both of its paths).
+class SpacingMedian
+{
+public:
+  /// d is overwritten when the frame is small or the sample's bracket misses.
+  float operator()(float* d, std::size_t total, float none);
+  /// Whether the last call found the median inside the bracket from its sample (else it
+  /// selected among all the kept spacings).
+  bool bracketed() const { return bracketed_; }
+
+private:
+  bool fromBracket(const float* d, std::size_t total, float& median);
+  std::vector<std::uint32_t> inside_;  // the bits of the kept spacings near the median
+  bool bracketed_ = false;
+};
+
 /// Builds a ScanGrid from a view, reusing its own scratch buffers between frames.
 class ScanGridBuilder
 {
@@ -103,9 +123,6 @@ private:
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);  // grid_resolution.cpp
-  /// The median of the kept spacings among d[0, total) by a bracket from a sample; false when
-  /// the frame is small or the bracket misses (grid_resolution.cpp).
-  bool bracketedMedian(const float* d, std::size_t total, float& median);
   void removeDuplicates(const Params& params, ScanGrid& grid);
   void linkRings(const Params& params, ScanGrid& grid);
   void findVerticalNeighbours(ScanGrid& grid);
@@ -129,7 +146,7 @@ private:
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
-  std::vector<float> inside_;  // the spacings near the median (bracketedMedian)
+  SpacingMedian spacing_median_;
   std::vector<std::uint32_t> column_;  // organized: input column of each grid position
 };
 

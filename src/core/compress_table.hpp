@@ -1,7 +1,7 @@
 // For each 8-bit mask, the lanes of its set bits in order: the lane order that moves the marked
 // lanes of an eight-lane vector to its front (left-packing), or the offsets of the marked
-// elements of a group of eight. Shared by the thresholds' candidate compaction and the grid's
-// Duplicate list.
+// elements of a group of eight. Shared by the thresholds' candidate compaction, the grid's
+// Duplicate list and the measured resolution's bracket pass.
 #pragma once
 
 #include <cstdint>

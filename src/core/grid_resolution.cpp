@@ -2,13 +2,19 @@
 // found in one pass over the spacings with a bracket from a sample.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "compress_table.hpp"
 #include "grow.hpp"
 #include "simd_clones.hpp"
 
 #include "ring_curvature/classifier.hpp"  // selectNth
 
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace ring_curvature
 {
@@ -41,6 +47,147 @@ RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __
 
 // Whether a spacing counts: same-firing duplicates (near 0) and gaps (> 5 deg) do not.
 inline bool kept(float d) { return (d > 1e-5f) & (d < 5.0f * kDeg); }
+// The same test on the bits read as a signed integer, for every float: non-negative floats
+// order like their bits, and negative ones (-0 and -NaN included) read as negative integers,
+// +inf and +NaN as integers above those of 5 deg. kept(d) iff keptAbove() < bitsOf(d) < keptUnder().
+inline std::int32_t bitsOf(float v)
+{
+  std::int32_t i;
+  std::memcpy(&i, &v, sizeof i);
+  return i;
+}
+inline std::int32_t keptAbove() { return bitsOf(1e-5f); }
+inline std::int32_t keptUnder() { return bitsOf(5.0f * kDeg); }
+
+// The bracket pass's counts: kept spacings, those of them below the bracket, and those inside.
+struct BracketCounts
+{
+  std::size_t n = 0, below = 0, m = 0;
+};
+
+// The bracket pass over d[i, total) for a bracket [lo, hi] of kept bits (so whatever is inside
+// is kept): adds to c, and appends the bits of those inside to in (writing one slot past them).
+void bracketPass(const float* d, std::size_t i, std::size_t total, std::int32_t lo, std::int32_t hi,
+                 std::uint32_t* in, BracketCounts& c)
+{
+  const std::int32_t above = keptAbove(), under = keptUnder();
+  std::size_t n = c.n, below = c.below, m = c.m;
+  for (; i < total; ++i)
+  {
+    const std::int32_t u = bitsOf(d[i]);
+    n += (u > above) & (u < under);
+    below += (u > above) & (u < lo);
+    in[m] = static_cast<std::uint32_t>(u);  // overwritten by the next one unless this one is inside
+    m += (u >= lo) & (u <= hi);
+  }
+  c = {n, below, m};
+}
+
+#if defined(RC_SIMD_CLONES_ON)
+// bracketPass eight spacings at a time: the counts in eight lanes, and the bits inside the
+// bracket moved to the front of the vector by the compress table (compress_table.hpp) and
+// stored at once, where the plain loop makes a store and a dependent count update per spacing.
+// Writes up to 7 slots past the inside count. Returns how far it went (a multiple of 8).
+__attribute__((target("avx2,popcnt"))) std::size_t bracketPassAvx2(const float* d, std::size_t total,
+                                                                     std::int32_t lo, std::int32_t hi,
+                                                                     std::uint32_t* in, BracketCounts& c)
+{
+  const __m256i above = _mm256_set1_epi32(keptAbove()), under = _mm256_set1_epi32(keptUnder());
+  const __m256i vlo = _mm256_set1_epi32(lo), lo_1 = _mm256_set1_epi32(lo - 1), hi_1 = _mm256_set1_epi32(hi + 1);
+  __m256i n8 = _mm256_setzero_si256(), below8 = _mm256_setzero_si256();  // minus the counts
+  std::size_t m = 0, i = 0;
+  for (; i + 8 <= total; i += 8)
+  {
+    const __m256i u = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(d + i));
+    const __m256i over = _mm256_cmpgt_epi32(u, above);
+    n8 = _mm256_add_epi32(n8, _mm256_and_si256(over, _mm256_cmpgt_epi32(under, u)));
+    below8 = _mm256_add_epi32(below8, _mm256_and_si256(over, _mm256_cmpgt_epi32(vlo, u)));
+    const __m256i inside = _mm256_and_si256(_mm256_cmpgt_epi32(u, lo_1), _mm256_cmpgt_epi32(hi_1, u));
+    const auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside)));
+    const __m256i lanes = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[mask]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(in + m), _mm256_permutevar8x32_epi32(u, lanes));
+    m += static_cast<std::size_t>(__builtin_popcount(mask));
+  }
+  alignas(32) std::int32_t nl[8], bl[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(nl), n8);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(bl), below8);
+  std::size_t n = 0, below = 0;
+  for (int l = 0; l < 8; ++l)
+  {
+    n += static_cast<std::size_t>(-static_cast<std::int64_t>(nl[l]));
+    below += static_cast<std::size_t>(-static_cast<std::int64_t>(bl[l]));
+  }
+  c = {n, below, m};
+  return i;
+}
+#endif
+
+// The keys of ranks k1 <= k2 among keys[0, m), all of them in [base, base + span]: a histogram
+// of the leading bits of key - base, then the same among the keys of the bucket that holds the
+// rank, until one key is left. Both ranks go together while they fall in one bucket (the first
+// digits of a sample), the second on a copy in `spare` (room for m) from where they part.
+// keys is overwritten. Unlike selectRank, the range is known (no pass for it), and a bracket of
+// a few thousand float steps takes one pass with the answer read off its histogram.
+void rankKeys(std::uint32_t* keys, std::uint32_t* spare, std::size_t m, std::size_t k1, std::size_t k2,
+              std::uint32_t base, std::uint32_t span, std::uint32_t& r1, std::uint32_t& r2)
+{
+  constexpr int kMaxDigit = 12;
+  std::uint32_t counts[1u << kMaxDigit];
+  bool both = true;  // r2 still to find
+  for (;;)
+  {
+    std::uint32_t found = base;  // span 0: every key left is base
+    if (span > 0)
+    {
+      // Up to about log2(m) bits a digit: clearing and walking a bucket costs about what
+      // counting a key does.
+      int cap = 6;
+      while (cap < kMaxDigit && (std::size_t{1} << cap) < m) ++cap;
+      const int bits = 32 - __builtin_clz(span);
+      const int shift = std::max(0, bits - cap);
+      const std::uint32_t buckets = (span >> shift) + 1;
+      std::fill(counts, counts + buckets, 0u);
+      for (std::size_t i = 0; i < m; ++i) ++counts[(keys[i] - base) >> shift];
+      std::uint32_t b = 0;
+      std::size_t below = 0;
+      while (below + counts[b] <= k1) below += counts[b++];
+      if (both)
+      {
+        std::uint32_t b2 = b;
+        std::size_t below2 = below;
+        while (below2 + counts[b2] <= k2) below2 += counts[b2++];
+        if (b2 != b)
+        {
+          // The ranks part here: the second one alone on a copy, the first one goes on.
+          std::copy(keys, keys + m, spare);
+          std::uint32_t same;
+          rankKeys(spare, nullptr, m, k2, k2, base, span, r2, same);
+          both = false;
+        }
+      }
+      if (shift > 0)
+      {
+        std::size_t j = 0;
+        for (std::size_t i = 0; i < m; ++i)
+        {
+          const std::uint32_t key = keys[i];
+          keys[j] = key;  // overwritten by the next one unless this one is in the bucket
+          j += ((key - base) >> shift) == b ? 1 : 0;
+        }
+        m = counts[b];
+        k1 -= below;
+        k2 -= below;
+        base += b << shift;
+        span = std::min(span - (b << shift), (1u << shift) - 1u);
+        continue;
+      }
+      found = base + b;
+    }
+    r1 = found;
+    if (both) r2 = found;
+    return;
+  }
+}
 }  // namespace
 
 void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
@@ -70,67 +217,67 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
       azimuthSpacings(b, e, az, d + total);
     total += e - b - 1;
   }
-  float median;
-  if (!bracketedMedian(d, total, median))
-  {
-    // A small frame (or a missed bracket): the kept spacings compacted without branches, then
-    // the radix selection over all of them.
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < total; ++i)
-    {
-      const float v = d[i];
-      d[n] = v;
-      n += kept(v) ? 1 : 0;
-    }
-    median = n > 0 ? selectNth(d, n, n / 2) : kTwoPi / static_cast<float>(largest);  // none kept
-  }
-  grid.azimuth_resolution = median;
+  grid.azimuth_resolution = spacing_median_(d, total, kTwoPi / static_cast<float>(largest));  // none kept
 }
 
-bool ScanGridBuilder::bracketedMedian(const float* d, std::size_t total, float& median)
+float SpacingMedian::operator()(float* d, std::size_t total, float none)
 {
-  // Most spacings are about the same value, and the radix selection moves nearly all of them at
-  // every digit. So a bracket [lo, hi] around the median from an even sample of the kept
+  float median;
+  bracketed_ = fromBracket(d, total, median);
+  if (bracketed_) return median;
+  // A small frame (or a missed bracket): the kept spacings compacted without branches, then
+  // the radix selection over all of them.
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < total; ++i)
+  {
+    const float v = d[i];
+    d[n] = v;
+    n += kept(v) ? 1 : 0;
+  }
+  return n > 0 ? selectNth(d, n, n / 2) : none;
+}
+
+bool SpacingMedian::fromBracket(const float* d, std::size_t total, float& median)
+{
+  // Most spacings are about the same value, and a selection over all of them would move nearly
+  // all at every digit. So a bracket [lo, hi] around the median from an even sample of the kept
   // spacings, then one pass over all spacings that counts the kept ones, those below lo, and
   // copies out those inside; the selection runs on those few. The result is the element of rank
   // n / 2 all the same; if the bracket misses that rank (it holds it with overwhelming odds),
-  // this returns false and the caller selects among all. (A pass of its own compacted the kept
-  // spacings first; the bracket pass now does without it.)
+  // this returns false and the caller selects among all. Kept spacings are positive, so their
+  // bits order like them: the selections and the pass work on the bits.
   constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
   if (total < 8 * kSample) return false;
-  float sample[kSample];
+  const std::int32_t above = keptAbove(), under = keptUnder();
+  std::uint32_t sample[kSample], spare[kSample];
   std::size_t ns = 0;
   const std::size_t stride = total / kSample;
   for (std::size_t j = 0; j < kSample; ++j)
   {
-    const float v = d[j * stride];
-    sample[ns] = v;
-    ns += kept(v) ? 1 : 0;
+    const std::int32_t u = bitsOf(d[j * stride]);
+    sample[ns] = static_cast<std::uint32_t>(u);
+    ns += (u > above) & (u < under);
   }
   if (ns < kSample / 2) return false;
   const std::size_t spread = kSpread * ns / kSample;
-  // (the radix selection here too: nth_element's comparisons mispredicted ~1500 times a frame)
-  const float lo = selectNth(sample, ns, ns / 2 - spread);
-  const float hi = selectNth(sample, ns, ns / 2 + spread);
-  growTo(inside_, total + 1);
-  float* const in = inside_.data();
-  // Kept spacings are positive, so their bits order like them: one unsigned comparison tells
-  // inside from outside.
-  const std::uint32_t lo_bits = detail::floatBits(lo), span = detail::floatBits(hi) - lo_bits;
-  std::size_t n = 0, below = 0, m = 0;
-  for (std::size_t i = 0; i < total; ++i)
-  {
-    const float v = d[i];
-    const std::uint32_t u = detail::floatBits(v);
-    const std::size_t k = kept(v) ? 1 : 0;
-    n += k;
-    below += k & (u < lo_bits ? 1u : 0u);
-    in[m] = v;  // overwritten by the next one unless this one is kept and inside
-    m += k & (u - lo_bits <= span ? 1u : 0u);
-  }
-  const std::size_t rank = n / 2;
-  if (!(below <= rank && rank < below + m)) return false;
-  median = selectNth(in, m, rank - below);
+  // (every kept key lies in [above + 1, under - 1])
+  std::uint32_t lo, hi;
+  rankKeys(sample, spare, ns, ns / 2 - spread, ns / 2 + spread, static_cast<std::uint32_t>(above) + 1u,
+           static_cast<std::uint32_t>(under - above - 2), lo, hi);
+  growTo(inside_, total + 8);  // (room for the vector stores' overrun)
+  std::uint32_t* const in = inside_.data();
+  BracketCounts c;
+  std::size_t done = 0;
+#if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
+    done = bracketPassAvx2(d, total, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), in, c);
+#endif
+  bracketPass(d, done, total, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), in, c);
+  const std::size_t rank = c.n / 2;
+  if (!(c.below <= rank && rank < c.below + c.m)) return false;
+  std::uint32_t key, same;
+  rankKeys(in, nullptr, c.m, rank - c.below, rank - c.below, lo, hi - lo, key, same);
+  median = detail::bitsFloat(key);
   return true;
 }
 
