@@ -125,9 +125,10 @@ __attribute__((target("avx2,popcnt"))) std::size_t bracketPassAvx2(const float* 
 // The keys of ranks k1 <= k2 among keys[0, m), all of them in [base, base + span]: a histogram
 // of the leading bits of key - base, then the same among the keys of the bucket that holds the
 // rank, until one key is left. Both ranks go together while they fall in one bucket (the first
-// digits of a sample), the second on a copy in `spare` (room for m) from where they part.
-// keys is overwritten. Unlike selectRank, the range is known (no pass for it), and a bracket of
-// a few thousand float steps takes one pass with the answer read off its histogram.
+// digits of a sample); where they part, the second one's bucket is copied to `spare` (room for
+// m) and goes on alone. keys is overwritten. Unlike selectRank, the range is known (no pass for
+// it), and a bracket of a few thousand float steps takes one pass with the answer read off its
+// histogram.
 void rankKeys(std::uint32_t* keys, std::uint32_t* spare, std::size_t m, std::size_t k1, std::size_t k2,
               std::uint32_t base, std::uint32_t span, std::uint32_t& r1, std::uint32_t& r2)
 {
@@ -136,57 +137,62 @@ void rankKeys(std::uint32_t* keys, std::uint32_t* spare, std::size_t m, std::siz
   bool both = true;  // r2 still to find
   for (;;)
   {
-    std::uint32_t found = base;  // span 0: every key left is base
-    if (span > 0)
+    if (span == 0) break;  // every key left is base
+    // Up to about log2(m) bits a digit: clearing and walking a bucket costs about what counting
+    // a key does.
+    int cap = 6;
+    while (cap < kMaxDigit && (std::size_t{1} << cap) < m) ++cap;
+    const int bits = 32 - __builtin_clz(span);
+    const int shift = std::max(0, bits - cap);
+    const std::uint32_t buckets = (span >> shift) + 1;
+    std::fill(counts, counts + buckets, 0u);
+    for (std::size_t i = 0; i < m; ++i) ++counts[(keys[i] - base) >> shift];
+    std::uint32_t b = 0;  // the bucket that holds rank k1, and the count below it
+    std::size_t below = 0;
+    while (below + counts[b] <= k1) below += counts[b++];
+    const auto keep = [&](std::uint32_t* out, std::uint32_t bucket) {  // the bucket's keys to out
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < m; ++i)
+      {
+        const std::uint32_t key = keys[i];
+        out[j] = key;  // overwritten by the next one unless this one is in the bucket
+        j += ((key - base) >> shift) == bucket ? 1 : 0;
+      }
+    };
+    const auto rangeOf = [&](std::uint32_t bucket) { return std::min(span - (bucket << shift), (1u << shift) - 1u); };
+    if (both)
     {
-      // Up to about log2(m) bits a digit: clearing and walking a bucket costs about what
-      // counting a key does.
-      int cap = 6;
-      while (cap < kMaxDigit && (std::size_t{1} << cap) < m) ++cap;
-      const int bits = 32 - __builtin_clz(span);
-      const int shift = std::max(0, bits - cap);
-      const std::uint32_t buckets = (span >> shift) + 1;
-      std::fill(counts, counts + buckets, 0u);
-      for (std::size_t i = 0; i < m; ++i) ++counts[(keys[i] - base) >> shift];
-      std::uint32_t b = 0;
-      std::size_t below = 0;
-      while (below + counts[b] <= k1) below += counts[b++];
-      if (both)
+      std::uint32_t b2 = b;
+      std::size_t below2 = below;
+      while (below2 + counts[b2] <= k2) below2 += counts[b2++];
+      if (b2 != b)
       {
-        std::uint32_t b2 = b;
-        std::size_t below2 = below;
-        while (below2 + counts[b2] <= k2) below2 += counts[b2++];
-        if (b2 != b)
+        // The ranks part here: the second one goes on alone among its bucket's keys.
+        both = false;
+        if (shift == 0)
+          r2 = base + b2;
+        else
         {
-          // The ranks part here: the second one alone on a copy, the first one goes on.
-          std::copy(keys, keys + m, spare);
+          keep(spare, b2);
           std::uint32_t same;
-          rankKeys(spare, nullptr, m, k2, k2, base, span, r2, same);
-          both = false;
+          rankKeys(spare, nullptr, counts[b2], k2 - below2, k2 - below2, base + (b2 << shift), rangeOf(b2), r2, same);
         }
       }
-      if (shift > 0)
-      {
-        std::size_t j = 0;
-        for (std::size_t i = 0; i < m; ++i)
-        {
-          const std::uint32_t key = keys[i];
-          keys[j] = key;  // overwritten by the next one unless this one is in the bucket
-          j += ((key - base) >> shift) == b ? 1 : 0;
-        }
-        m = counts[b];
-        k1 -= below;
-        k2 -= below;
-        base += b << shift;
-        span = std::min(span - (b << shift), (1u << shift) - 1u);
-        continue;
-      }
-      found = base + b;
     }
-    r1 = found;
-    if (both) r2 = found;
-    return;
+    if (shift == 0)
+    {
+      base += b;
+      break;
+    }
+    keep(keys, b);
+    m = counts[b];
+    k1 -= below;
+    k2 -= below;
+    base += b << shift;
+    span = rangeOf(b);
   }
+  r1 = base;
+  if (both) r2 = base;
 }
 }  // namespace
 
