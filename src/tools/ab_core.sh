@@ -7,14 +7,16 @@
 #   *_DIR holds a build's libring_curvature_core.so (copied out of a workspace's devel/lib), and
 #   if it was built with one, its libring_curvature_ab_shim.so. For a build without a shim, one
 #   is compiled here against the headers in the directory named by AB_A_INCLUDE / AB_B_INCLUDE
-#   if set, else in *_DIR/include if there is one, else this repository's include/ (the
-#   Pipeline API has been stable; a build whose Pipeline, FrameResult or PointCloudView layout
-#   differs from these headers needs its own).
+#   if set, else in *_DIR/include if there is one, else this repository's include/. Those must
+#   be the build's own headers: Pipeline holds the grid builder and the other stages by value,
+#   so a change to any private member of the core's headers changes its layout, and a shim
+#   compiled against other headers crashes (free(): invalid pointer) or worse. For an old
+#   commit: git archive COMMIT include | tar -x -C DIR.
 # ab_core itself comes from this repository's workspace (scripts/build); AB_CORE_BIN overrides.
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
 if (( $# < 3 )); then
-  sed -n '2,13p' "$0" >&2
+  sed -n '2,15p' "$0" >&2
   exit 2
 fi
 a_dir=$1 b_dir=$2 bag=$3 rounds=${4:-20}
