@@ -152,6 +152,13 @@ __attribute__((target("avx2"))) std::uint32_t verticalGroupsAvx2(std::uint32_t b
 }
 #endif
 
+// Organized: the grid position of the point one row up of each position p < m.
+RC_SIMD_CLONES void upOrganized(std::size_t m, std::size_t width, const std::uint32_t* __restrict index,
+                                const std::int32_t* __restrict grid_pos, std::int32_t* __restrict up)
+{
+  for (std::size_t p = 0; p < m; ++p) up[p] = grid_pos[index[p] + width];
+}
+
 // The input indices i in [i0, n) with state[i] == Duplicate, ascending, to out; returns how many.
 // Branch-free: dual-return frames make the test a coin toss per point.
 std::size_t listDuplicates(const PointState* state, std::size_t i0, std::size_t n, std::uint32_t* out)
@@ -443,13 +450,14 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   const std::size_t m = grid.size();
   if (grid.organized)
   {
-    grid.up.assign(m, -1);
+    // The same column one row up: its grid position, which is -1 for a point off the grid (an
+    // organized cloud has no duplicates, and the input pass set every point's to -1 before the
+    // grid positions were written), so no test per point; the top ring has no row above.
+    grid.up.resize(m);
     const std::size_t width = grid.num_input / static_cast<std::size_t>(grid.num_rings);
-    for (std::size_t p = 0; p < m; ++p)
-    {
-      const std::size_t i = grid.index[p] + width;
-      if (i < grid.num_input && grid.state[i] == PointState::OnGrid) grid.up[p] = grid.grid_pos[i];
-    }
+    const std::uint32_t top = grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1];
+    upOrganized(top, width, grid.index.data(), grid.grid_pos.data(), grid.up.data());
+    std::fill(grid.up.begin() + top, grid.up.end(), -1);
     return;
   }
   // Every position of a ring followed by a non-empty one is written below; only the others are

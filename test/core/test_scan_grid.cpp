@@ -415,6 +415,17 @@ TEST(ScanGrid, OrganizedCloudUsesRowsAndColumns)
   EXPECT_TRUE(p.grid().organized);
   EXPECT_EQ(p.grid().num_rings, 8);
   EXPECT_EQ(count(r, Label::Edge), 32u);
+  // the vertical neighbour is the same column one row up, none where that return is missing
+  const ScanGrid& g = p.grid();
+  std::size_t missing_above = 0;
+  for (std::size_t pos = 0; pos < g.size(); ++pos)
+  {
+    const std::size_t i = g.index[pos], above = i + cols;
+    const bool on_grid = above < g.num_input && g.state[above] == PointState::OnGrid;
+    missing_above += above < g.num_input && !on_grid ? 1 : 0;
+    EXPECT_EQ(g.up[pos], on_grid ? g.grid_pos[above] : -1) << pos;
+  }
+  EXPECT_GT(missing_above, 20u);
   std::size_t planes = 0;
   for (const auto& pr : r.primitives.primitives) planes += pr.label == Label::Plane ? 1 : 0;
   EXPECT_EQ(planes, 4u);
