@@ -6,6 +6,7 @@ add_library(ring_curvature_core
   src/core/grid_input.cpp
   src/core/ring_sort.cpp
   src/core/grid_resolution.cpp
+  src/core/grid_vertical.cpp
   src/core/cloud_view_checks.cpp
   src/core/features.cpp
   src/core/smoothness.cpp
