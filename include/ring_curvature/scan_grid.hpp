@@ -121,7 +121,9 @@ private:
   std::size_t scatterInterleaved(std::size_t from, std::size_t to, std::size_t num_followers);
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
-  void placeOrganized(const PointCloudView& view, ScanGrid& grid);
+  /// Returns true when it also gathered the coordinates, set the grid positions and summed each
+  /// ring's elevation sines (into ring_sum_): float32 clouds on AVX2 CPUs.
+  bool placeOrganized(const PointCloudView& view, ScanGrid& grid);
   void measureResolution(const Params& params, ScanGrid& grid);  // grid_resolution.cpp
   void removeDuplicates(const Params& params, ScanGrid& grid);
   void linkRings(const Params& params, ScanGrid& grid);
@@ -147,7 +149,8 @@ private:
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
   SpacingMedian spacing_median_;
-  std::vector<std::uint32_t> column_;  // organized: input column of each grid position
+  UninitializedVector<std::uint32_t> column_;  // organized: input column of each grid position
+  std::vector<double> ring_sum_;       // organized: each ring's sum of elevation sines
 };
 
 namespace detail

@@ -87,3 +87,52 @@ TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
   }
   EXPECT_GT(checked, 10000u);
 }
+
+// Organized float32 frames are placed, gathered and summed in one pass (eight columns at a time
+// on AVX2): every array against the input, with rows all valid, all missing, and mixed (NaN,
+// too near, the origin), in a width that is no multiple of 8.
+TEST(ScanGrid, OrganizedGridMatchesItsInput)
+{
+  const int rows = 5, cols = 203;
+  const double nan = std::numeric_limits<double>::quiet_NaN(), skip[rows] = {0.0, 1.0, 0.3, 0.5, 0.9};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  SyntheticCloud org;
+  std::vector<float> xyz;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+    {
+      const double k = u(rng) < skip[r] ? (c % 3 == 0 ? nan : c % 3 == 1 ? 0.01 : 0.0) : 1 + 30 * u(rng);
+      const double az = 2 * 3.14159265 * c / cols, el = (u(rng) - 0.5) * 0.4;
+      org.add(k * std::cos(el) * std::cos(az), k * std::cos(el) * std::sin(az), k * std::sin(el), r);
+      for (double v : {k * std::cos(el) * std::cos(az), k * std::cos(el) * std::sin(az), k * std::sin(el)})
+        xyz.push_back(static_cast<float>(v));
+    }
+  Pipeline p;
+  FrameResult res;
+  ASSERT_TRUE(p.process(org.view(rows), res).ok);
+  const ScanGrid& g = p.grid();
+  std::uint32_t pos = 0;
+  for (int r = 0; r < rows; ++r)
+  {
+    double s = 0;
+    ASSERT_EQ(g.ring_begin[r], pos);
+    for (std::uint32_t i = r * cols; i < static_cast<std::uint32_t>((r + 1) * cols); ++i)
+    {
+      const double x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2], range = std::sqrt(x * x + y * y + z * z);
+      const bool valid = range >= p.params().min_range && range <= p.params().max_range;
+      ASSERT_EQ(g.grid_pos[i], valid ? static_cast<std::int32_t>(pos) : -1) << i;
+      if (!valid) continue;
+      ASSERT_EQ(g.index[pos], i);
+      EXPECT_TRUE(g.x[pos] == x && g.y[pos] == y && g.z[pos] == z && g.range[pos] == range) << i;
+      EXPECT_EQ(g.azimuth[pos], fastAtan2(xyz[3 * i + 1], xyz[3 * i])) << i;
+      s += z / range;
+      ++pos;
+    }
+    const std::uint32_t n = pos - g.ring_begin[r];
+    const double sine = n > 0 ? std::clamp(s / n, -1.0, 1.0) : 0.0;
+    EXPECT_EQ(g.ring_elevation[r], static_cast<float>(std::asin(sine))) << r;
+    EXPECT_EQ(g.ring_cos[r], static_cast<float>(std::sqrt(1.0 - sine * sine))) << r;
+  }
+  EXPECT_EQ(g.size(), pos);
+}
