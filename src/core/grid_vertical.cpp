@@ -46,72 +46,122 @@ RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t
   }
 }
 
+// One ring's part of the search: its samples [p, e) left, the ring above (ub, ue), the walk's
+// position q, and whether the vector path left its next group to the walk.
+struct VerticalStream
+{
+  std::uint32_t p, e, ub, ue, q;
+  bool stuck;
+};
+
+// The walk and the choice for the next `count` samples of s.
+void verticalWalk(const float* az, std::int32_t* up, VerticalStream& s, std::uint32_t count)
+{
+  const std::uint32_t done = s.p, stop = std::min(s.e, s.p + count);
+  std::uint32_t q = s.q;
+  for (std::uint32_t p = done; p < stop; ++p)
+  {
+    const float a = az[p];
+    while (q + 1 < s.ue && az[q + 1] <= a) ++q;
+    up[p] = static_cast<std::int32_t>(q);
+  }
+  nearestAbove(done, stop, s.ub, s.ue, az, up);
+  s.p = stop;
+  s.q = q;
+  s.stuck = false;
+}
+
 #if defined(RC_SIMD_CLONES_ON)
-// |wrapPi(d)| eight lanes at a time, nearestAbove's circDist operation for operation.
+// |wrapPi(d)| eight lanes at a time: nearestAbove's circDist, `a > pi ? 2 pi - a : a` with
+// a = |d|, as min(2 pi - a, a) (vminps returns its second operand unless the first is less).
+// The same bits for every a >= 0, NaN included (checked over all of them): 2 pi - a rounds to
+// at most pi < a when a > pi, and to at least a when a <= pi (kTwoPi is exactly 2 kPi). Two
+// operations instead of a compare and a three-uop blend.
 __attribute__((target("avx2"))) inline __m256 circDist8(__m256 d)
 {
   const __m256 a = _mm256_andnot_ps(_mm256_set1_ps(-0.0f), d);
-  const __m256 wrap = _mm256_cmp_ps(a, _mm256_set1_ps(kPi), _CMP_GT_OQ);
-  return _mm256_blendv_ps(a, _mm256_sub_ps(_mm256_set1_ps(kTwoPi), a), wrap);
+  return _mm256_min_ps(_mm256_sub_ps(_mm256_set1_ps(kTwoPi), a), a);
 }
 
-// The merge walk and nearestAbove's choice for eight samples p of ring (b, e) at a time, where
-// the walk's exit was a data-dependent branch per sample. With q the walk's position before the
+// The merge walk and nearestAbove's choice for eight samples of a ring at a time, where the
+// walk's exit was a data-dependent branch per sample. With q the walk's position before the
 // eight (the last sample above at or before the previous one), each one's stop is q plus how
 // many of az[q + 1 .. q + 16] lie at or below its azimuth: the walk stops at the first sample
 // above that does not, and those sixteen are sorted, so this is the same count. It holds when
 // the count stays below 16 (the stop lies inside the window), the window lies inside the ring
 // above (no seam candidate but the last) and no azimuth in it or among the eight is NaN (which
-// would stop the walk early); other groups go through the walk (`up` holds the stops, and the
-// caller's nearestAbove chooses). The three candidates' azimuths are picked from the window's
-// registers by the count. Returns the first sample not done; q is the walk's position there.
-__attribute__((target("avx2"))) std::uint32_t verticalGroupsAvx2(std::uint32_t b, std::uint32_t e,
-                                                                 std::uint32_t ue, const float* __restrict az,
-                                                                 std::int32_t* __restrict up, std::uint32_t& q_io)
+// would stop the walk early); otherwise the group is left to the walk (`stuck`). The three
+// candidates' azimuths are picked from the window's registers by the count.
+__attribute__((target("avx2"), always_inline)) inline bool verticalGroup(const float* __restrict az,
+                                                                         std::int32_t* __restrict up,
+                                                                         VerticalStream& s)
 {
-  std::uint32_t q = q_io, p = b;
-  const __m256 last = _mm256_set1_ps(az[ue - 1]);
-  const __m256i last_pos = _mm256_set1_epi32(static_cast<std::int32_t>(ue - 1));
-  for (; p + 8 <= e && q + 16 < ue; p += 8)
+  const std::uint32_t q = s.q, p = s.p;
+  if (p + 8 > s.e || q + 16 >= s.ue)
   {
-    const __m256 a = _mm256_loadu_ps(az + p);
-    const float* const w = az + q;
-    const __m256 w0 = _mm256_loadu_ps(w), w1 = _mm256_loadu_ps(w + 8);      // az[q + k], k 0..15
-    const __m256 s0 = _mm256_loadu_ps(w + 1), s1 = _mm256_loadu_ps(w + 9);  // az[q + k + 1]
-    __m256i c[4];
-    for (int j = 0; j < 4; ++j)
-    {
-      __m256i acc = _mm256_castps_si256(_mm256_cmp_ps(_mm256_broadcast_ss(w + 1 + j), a, _CMP_LE_OQ));
-      for (int k = 1 + j + 4; k <= 16; k += 4)
-      {
-        const __m256 le = _mm256_cmp_ps(_mm256_broadcast_ss(w + k), a, _CMP_LE_OQ);
-        acc = _mm256_add_epi32(acc, _mm256_castps_si256(le));
-      }
-      c[j] = acc;
-    }
-    // the negated count (each true comparison is -1)
-    const __m256i neg = _mm256_add_epi32(_mm256_add_epi32(c[0], c[1]), _mm256_add_epi32(c[2], c[3]));
-    const __m256i cnt = _mm256_sub_epi32(_mm256_setzero_si256(), neg);
-    const __m256 nan = _mm256_or_ps(_mm256_cmp_ps(a, a, _CMP_UNORD_Q), _mm256_cmp_ps(s0, s1, _CMP_UNORD_Q));
-    const __m256 bad = _mm256_or_ps(nan, _mm256_castsi256_ps(_mm256_cmpeq_epi32(cnt, _mm256_set1_epi32(16))));
-    if (_mm256_movemask_ps(bad) != 0) break;
-    // az[q + cnt] and az[q + cnt + 1]: lanes 0..7 of the first register or (cnt >= 8) the second
-    const __m256 hi = _mm256_castsi256_ps(_mm256_slli_epi32(cnt, 28));
-    const __m256 aq = _mm256_blendv_ps(_mm256_permutevar8x32_ps(w0, cnt), _mm256_permutevar8x32_ps(w1, cnt), hi);
-    const __m256 an = _mm256_blendv_ps(_mm256_permutevar8x32_ps(s0, cnt), _mm256_permutevar8x32_ps(s1, cnt), hi);
-    const __m256 d0 = circDist8(_mm256_sub_ps(aq, a)), d1 = circDist8(_mm256_sub_ps(an, a));
-    const __m256 d2 = circDist8(_mm256_sub_ps(last, a));
-    const __m256 m1 = _mm256_cmp_ps(d1, d0, _CMP_LT_OQ);
-    const __m256i pos = _mm256_add_epi32(_mm256_set1_epi32(static_cast<std::int32_t>(q)), cnt);
-    const __m256i best = _mm256_sub_epi32(pos, _mm256_castps_si256(m1));  // + 1 where the successor is nearer
-    const __m256 bd = _mm256_blendv_ps(d0, d1, m1);
-    const __m256 m2 = _mm256_cmp_ps(d2, bd, _CMP_LT_OQ);
-    const __m256 chosen = _mm256_blendv_ps(_mm256_castsi256_ps(best), _mm256_castsi256_ps(last_pos), m2);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(up + p), _mm256_castps_si256(chosen));
-    q += static_cast<std::uint32_t>(_mm256_extract_epi32(cnt, 7));
+    s.stuck = p < s.e;
+    return false;
   }
-  q_io = q;
-  return p;
+  const __m256 a = _mm256_loadu_ps(az + p);
+  const float* const w = az + q;
+  const __m256 w0 = _mm256_loadu_ps(w), w1 = _mm256_loadu_ps(w + 8);      // az[q + k], k 0..15
+  const __m256 s0 = _mm256_loadu_ps(w + 1), s1 = _mm256_loadu_ps(w + 9);  // az[q + k + 1]
+  __m256i c[4];
+  for (int j = 0; j < 4; ++j)
+  {
+    __m256i acc = _mm256_castps_si256(_mm256_cmp_ps(_mm256_broadcast_ss(w + 1 + j), a, _CMP_LE_OQ));
+    for (int k = 1 + j + 4; k <= 16; k += 4)
+    {
+      const __m256 le = _mm256_cmp_ps(_mm256_broadcast_ss(w + k), a, _CMP_LE_OQ);
+      acc = _mm256_add_epi32(acc, _mm256_castps_si256(le));
+    }
+    c[j] = acc;
+  }
+  // the negated count (each true comparison is -1)
+  const __m256i neg = _mm256_add_epi32(_mm256_add_epi32(c[0], c[1]), _mm256_add_epi32(c[2], c[3]));
+  const __m256i cnt = _mm256_sub_epi32(_mm256_setzero_si256(), neg);
+  const __m256 nan = _mm256_or_ps(_mm256_cmp_ps(a, a, _CMP_UNORD_Q), _mm256_cmp_ps(s0, s1, _CMP_UNORD_Q));
+  const __m256 bad = _mm256_or_ps(nan, _mm256_castsi256_ps(_mm256_cmpeq_epi32(cnt, _mm256_set1_epi32(16))));
+  if (_mm256_movemask_ps(bad) != 0)
+  {
+    s.stuck = true;
+    return false;
+  }
+  // az[q + cnt] and az[q + cnt + 1]: lanes 0..7 of the first register or (cnt >= 8) the second
+  const __m256 hi = _mm256_castsi256_ps(_mm256_slli_epi32(cnt, 28));
+  const __m256 aq = _mm256_blendv_ps(_mm256_permutevar8x32_ps(w0, cnt), _mm256_permutevar8x32_ps(w1, cnt), hi);
+  const __m256 an = _mm256_blendv_ps(_mm256_permutevar8x32_ps(s0, cnt), _mm256_permutevar8x32_ps(s1, cnt), hi);
+  const __m256 d0 = circDist8(_mm256_sub_ps(aq, a)), d1 = circDist8(_mm256_sub_ps(an, a));
+  const __m256 d2 = circDist8(_mm256_sub_ps(_mm256_set1_ps(az[s.ue - 1]), a));
+  const __m256 m1 = _mm256_cmp_ps(d1, d0, _CMP_LT_OQ);
+  const __m256i pos = _mm256_add_epi32(_mm256_set1_epi32(static_cast<std::int32_t>(q)), cnt);
+  const __m256i best = _mm256_sub_epi32(pos, _mm256_castps_si256(m1));  // + 1 where the successor is nearer
+  const __m256 bd = _mm256_min_ps(d1, d0);                                // d1 < d0 ? d1 : d0
+  const __m256 m2 = _mm256_cmp_ps(d2, bd, _CMP_LT_OQ);
+  const __m256i last = _mm256_set1_epi32(static_cast<std::int32_t>(s.ue - 1));
+  const __m256 chosen = _mm256_blendv_ps(_mm256_castsi256_ps(best), _mm256_castsi256_ps(last), m2);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(up + p), _mm256_castps_si256(chosen));
+  s.q = q + static_cast<std::uint32_t>(_mm256_extract_epi32(cnt, 7));
+  s.p = p + 8;
+  return true;
+}
+
+// Groups of two rings in turn until one of them cannot take its next: each group's window
+// starts where the one before of its ring stopped, a chain of ~20 cycles that bounded one ring
+// alone; two rings' chains interleave.
+__attribute__((target("avx2"))) void verticalGroupsAvx2(const float* __restrict az, std::int32_t* __restrict up,
+                                                        VerticalStream& s0, VerticalStream& s1)
+{
+  while (verticalGroup(az, up, s0) & verticalGroup(az, up, s1))
+  {
+  }
+}
+__attribute__((target("avx2"))) void verticalGroupsAvx2(const float* __restrict az, std::int32_t* __restrict up,
+                                                        VerticalStream& s0)
+{
+  while (verticalGroup(az, up, s0))
+  {
+  }
 }
 #endif
 
@@ -153,8 +203,20 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   std::int32_t* const up = grid.up.data();
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx2 = __builtin_cpu_supports("avx2");
-#else
-  const bool avx2 = false;
+  // Two rings at a time (see verticalGroupsAvx2); a group the vector path cannot take goes
+  // through the walk, and the rest of the ring back to the vector path.
+  const auto searchPair = [&](VerticalStream& s0, VerticalStream& s1) {
+    while (s0.p < s0.e || s1.p < s1.e)
+    {
+      if (s0.p < s0.e && s1.p < s1.e)
+        verticalGroupsAvx2(az, up, s0, s1);
+      else
+        verticalGroupsAvx2(az, up, s0.p < s0.e ? s0 : s1);
+      for (VerticalStream* s : {&s0, &s1})
+        if (s->stuck) verticalWalk(az, up, *s, 8);
+    }
+  };
+  VerticalStream held{0, 0, 0, 0, 0, false};  // a ring waiting for a second one
 #endif
   for (int n = 0; n + 1 < grid.num_rings; ++n)
   {
@@ -165,25 +227,28 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
       std::fill(up + b, up + e, -1);
       continue;
     }
-    std::uint32_t q = ub, p = b;
-    while (p < e)
-    {
+    VerticalStream s{b, e, ub, ue, ub, false};
 #if defined(RC_SIMD_CLONES_ON)
-      if (avx2) p = verticalGroupsAvx2(p, e, ue, az, up, q);
-#endif
-      if (p == e) break;
-      // the walk for a group the vector path could not take (or for all, without AVX2)
-      const std::uint32_t stop = avx2 ? std::min(e, p + 8) : e;
-      const std::uint32_t done = p;
-      for (; p < stop; ++p)
+    if (avx2)
+    {
+      if (held.p == held.e)
       {
-        const float a = az[p];
-        while (q + 1 < ue && az[q + 1] <= a) ++q;
-        up[p] = static_cast<std::int32_t>(q);
+        held = s;
       }
-      nearestAbove(done, p, ub, ue, az, up);
+      else
+      {
+        searchPair(held, s);
+        held = VerticalStream{0, 0, 0, 0, 0, false};
+      }
+      continue;
     }
+#endif
+    verticalWalk(az, up, s, e - b);
   }
+#if defined(RC_SIMD_CLONES_ON)
+  VerticalStream none{0, 0, 0, 0, 0, false};
+  if (held.p < held.e) searchPair(held, none);
+#endif
   if (grid.num_rings > 0)  // the top ring has none above it
     std::fill(up + grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1], up + m, -1);
 }
