@@ -3,6 +3,7 @@
 // recursion.
 #include "ring_curvature/primitives.hpp"
 
+#include "primitive_sums.hpp"
 #include "simd_clones.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -48,66 +49,9 @@ RC_SIMD_CLONES void angularJoins(std::size_t b, std::size_t e, const Label* __re
   }
 }
 
-// Box, centroid and second moments of one primitive from the grid positions of its points, in
-// the order of its indices (grid points first, then duplicates). All sums run one point at a
-// time in that order, so they are bit for bit those of the per-point accumulation they replace:
-// - box and centroid sum in float: Eigen's cwiseMin(box, v) is std::min(box, v) per
-//   coordinate. The first point starts the box; a duplicate repeats an earlier point's
-//   coordinates, so it would leave the box as it is and goes to the sum only. (Converting
-//   here rather than keeping float copies from the fill: the moments read the same doubles
-//   right after, while a copy was 16 more bytes a point to write and read, which cost on the
-//   large clouds.) The centroid is the sum divided per coordinate, as Eigen's operator/=.
-// - second moments about the float centroid cast to double. Only the six distinct entries
-//   are summed: d d^T is symmetric (d_i d_j and d_j d_i are the same double), so the matrix
-//   is filled from them once per primitive.
-// A point's x, y, z (and a copy of z) go through the box and centroid in one float vector and
-// through the moments in one double vector (GCC vector extensions): each lane the same
-// conversion, min, max, difference, product and sum as the scalar code. With AVX2 a point's
-// four doubles are one register and one conversion; the baseline clone splits them in halves.
-using F4 = float __attribute__((vector_size(16)));
+// GCC vector types for the range tests of the vertical unions
 using D4 = double __attribute__((vector_size(32)));
-using D2 = double __attribute__((vector_size(16)));
 using I4 = long long __attribute__((vector_size(32)));
-struct Sums
-{
-  F4 lo, hi, centroid;
-  D4 m;    // (xx, yy, zx, zz)
-  D2 mxy;  // (xy, yz)
-};
-RC_SIMD_CLONES void primitiveSums(const std::uint32_t* __restrict sp, std::uint32_t ng, std::uint32_t np,
-                                  const double* __restrict gx, const double* __restrict gy,
-                                  const double* __restrict gz, Sums& out)
-{
-  // (a macro: a lambda returning a 32-byte vector changes the ABI without AVX, -Wpsabi)
-#define RC_XYZZ(p) (D4{gx[p], gy[p], gz[p], gz[p]})
-  F4 lo = __builtin_convertvector(RC_XYZZ(sp[0]), F4), hi = lo, sum = F4{0, 0, 0, 0};
-  for (std::uint32_t k = 0; k < ng; ++k)
-  {
-    const F4 v = __builtin_convertvector(RC_XYZZ(sp[k]), F4);
-    lo = v < lo ? v : lo;  // std::min(lo, v), lane by lane
-    hi = hi < v ? v : hi;  // std::max(hi, v)
-    sum += v;
-  }
-  for (std::uint32_t k = ng; k < np; ++k) sum += __builtin_convertvector(RC_XYZZ(sp[k]), F4);  // duplicates
-  const auto fn = static_cast<float>(np);
-  const F4 centroid = sum / F4{fn, fn, fn, fn};
-  const D4 c = __builtin_convertvector(centroid, D4);
-  const D4 cz = D4{c[0], c[1], c[2], c[2]};
-  D4 m = D4{0, 0, 0, 0};
-  D2 mxy = D2{0, 0};
-  for (std::uint32_t k = 0; k < np; ++k)
-  {
-    const D4 d = RC_XYZZ(sp[k]) - cz;  // (dx, dy, dz, dz)
-    m += d * __builtin_shufflevector(d, d, 0, 1, 0, 3);  // (dx dx, dy dy, dz dx, dz dz)
-    mxy += __builtin_shufflevector(d, d, 0, 1) * __builtin_shufflevector(d, d, 1, 2);  // (dx dy, dy dz)
-  }
-#undef RC_XYZZ
-  out.lo = lo;
-  out.hi = hi;
-  out.centroid = centroid;
-  out.m = m;
-  out.mxy = mxy;
-}
 
 inline std::uint32_t find(std::uint32_t* parent, std::uint32_t a)
 {
@@ -477,10 +421,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   duplicateSlots(dups, num_dups, grid_pos, comp, dup_root, dup_rank, total, indices, slot_pos);
   out.indices.resize(total);
 
-  // Box, centroid, moments and axes, primitive by primitive (primitiveSums, above, for the sums)
+  // Box, centroid, moments and axes, primitive by primitive (primitive_sums.cpp for the sums)
   for (auto& pr : out.primitives)
   {
-    Sums S;
+    PrimitiveSums S;
     primitiveSums(slot_pos + pr.first, grid_size[pr.id], pr.num_points, gx, gy, gz, S);
     pr.bbox_min = Eigen::Vector3f(S.lo[0], S.lo[1], S.lo[2]);
     pr.bbox_max = Eigen::Vector3f(S.hi[0], S.hi[1], S.hi[2]);

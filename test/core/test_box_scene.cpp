@@ -2,9 +2,11 @@
 // are, and faces are Plane. Ground truth comes from the ray caster's object / face record.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 #include "../support/ray_scene.hpp"
 #include "ring_curvature/pipeline.hpp"
@@ -134,3 +136,73 @@ TEST(BoxScene, NoiseFreeCreasesJumpsAndFaces) { runBoxScene(0.0, {0.9, 0.95, 0.9
 // With noise the floors are regression floors: a little below what the defaults measured when
 // this test was written (creases 23/32, jumps 40/40, Edge precision 24/31, faces 16817/16819).
 TEST(BoxScene, OneCentimetreNoise) { runBoxScene(0.01, {0.65, 0.9, 0.7, 0.98}); }
+
+// Each primitive's box, centroid, eigenvalues, axis and RMS error are, bit for bit, those of the
+// plain per-point accumulation over its indices in order (float box and sums, double moments
+// about the float centroid, Eigen's direct solver), whichever code path the extractor takes
+// (AVX2 or not). With every firing twice (dual return), half of each primitive's points are
+// duplicates after its grid points. Noise gives every coordinate its own low bits.
+TEST(BoxScene, PrimitiveSummariesArePerPointSums)
+{
+  const SensorModel vlp = SensorModel::uniform(16, -15, 15, 0.2);
+  const ScannedFrame f = scan(boxScene(), vlp, 0.01, 5);
+  SyntheticCloud dual;
+  const std::uint32_t step = f.cloud.pointStep();
+  for (std::size_t i = 0; i < f.cloud.size(); ++i)
+    for (int t = 0; t < 2; ++t)
+      dual.bytes().insert(dual.bytes().end(), f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * step),
+                          f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>((i + 1) * step));
+  const SyntheticCloud* const clouds[] = {&f.cloud, &dual};
+  for (const SyntheticCloud* cloud : clouds)
+  {
+    Pipeline pipe;
+    FrameResult r;
+    ASSERT_TRUE(pipe.process(cloud->view(), r).ok);
+    const ScanGrid& g = pipe.grid();
+    const auto& prims = r.primitives.primitives;
+    ASSERT_GT(prims.size(), 5u);
+    std::size_t duplicates = 0;
+    for (const PrimitiveInfo& pr : prims)
+    {
+      Eigen::Vector3f lo, hi, sum = Eigen::Vector3f::Zero();
+      std::vector<Eigen::Vector3d> pts;
+      for (std::uint32_t j = 0; j < pr.num_points; ++j)
+      {
+        const std::uint32_t i = r.primitives.indices[pr.first + j];
+        duplicates += g.state[i] == PointState::Duplicate ? 1 : 0;
+        const auto pos = static_cast<std::size_t>(g.grid_pos[i]);
+        pts.emplace_back(g.x[pos], g.y[pos], g.z[pos]);
+        const Eigen::Vector3f v = pts.back().cast<float>();
+        lo = j == 0 ? v : Eigen::Vector3f(lo.cwiseMin(v));
+        hi = j == 0 ? v : Eigen::Vector3f(hi.cwiseMax(v));
+        sum += v;
+      }
+      const Eigen::Vector3f centroid = sum / static_cast<float>(pr.num_points);
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const Eigen::Vector3d& p : pts)
+      {
+        const Eigen::Vector3d d = p - centroid.cast<double>();
+        cov += d * d.transpose();
+      }
+      cov /= static_cast<double>(pr.num_points);
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+      es.computeDirect(cov);
+      const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);
+      Eigen::Vector3d axis = es.eigenvectors().col(pr.label == Label::Plane ? 0 : 2);
+      if (pr.label == Label::Plane && axis.dot(centroid.cast<double>()) > 0) axis = -axis;
+      const double rms2 = pr.label == Label::Plane ? ev(0) : ev(0) + ev(1);
+      // bitwise: memcmp, where == would take -0 for +0
+      const auto same = [](const auto& a, const auto& b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+      const Eigen::Vector3f evf = ev.cast<float>(), axisf = axis.cast<float>();
+      const float rms = static_cast<float>(std::sqrt(rms2));
+      EXPECT_TRUE(same(pr.bbox_min, lo) && same(pr.bbox_max, hi)) << "primitive " << pr.id;
+      EXPECT_TRUE(same(pr.centroid, centroid)) << "primitive " << pr.id;
+      EXPECT_TRUE(same(pr.eigenvalues, evf) && same(pr.axis, axisf) && same(pr.rms_error, rms))
+          << "primitive " << pr.id;
+    }
+    if (cloud == &dual)
+    {
+      EXPECT_GT(duplicates, r.primitives.indices.size() / 3);
+    }
+  }
+}

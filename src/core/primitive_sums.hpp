@@ -1,0 +1,25 @@
+// Box, centroid and second moments of one primitive (PrimitiveExtractor::extract's sums), in a
+// file of their own: primitives.cpp would otherwise outgrow the 600-line limit.
+#pragma once
+
+#include <cstdint>
+
+namespace ring_curvature
+{
+
+/// The sums of one primitive: its box and centroid in float, lanes (x, y, z, z), and its second
+/// moments about the centroid in double, (xx, yy, zx, zz) and (xy, yz), not yet divided by the
+/// number of points.
+struct PrimitiveSums
+{
+  alignas(16) float lo[4], hi[4], centroid[4];
+  alignas(32) double m[4];
+  alignas(16) double mxy[2];
+};
+
+/// The sums over the np points whose grid positions are sp[0, np), in that order: ng grid points
+/// (which make the box), then np - ng duplicates. gx, gy, gz: the grid's coordinates.
+void primitiveSums(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx, const double* gy,
+                   const double* gz, PrimitiveSums& out);
+
+}  // namespace ring_curvature
