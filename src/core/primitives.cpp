@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+#endif
 #include <limits>
 
 namespace ring_curvature
@@ -111,81 +114,147 @@ __attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, 
   return num_runs;
 }
 
+// The inputs of the vertical unions (below) of one ring with the ring above it.
+struct VerticalRing
+{
+  std::uint32_t b, e;  // the ring above: [b, e)
+  const PrimitiveExtractor::Run* __restrict runs;
+  const Label* __restrict lab;
+  const std::int32_t* __restrict up;
+  const double* __restrict range;
+  const float* __restrict azimuth;
+  bool organized;
+  double half_ratio, range_min;  // inRange's range_ratio * 0.5 * (ra + rb), left to right
+  float az_tol;
+  const std::uint32_t* __restrict run;
+  std::uint32_t* parent;
+};
+
+// Position p of run rp (label l, end pe) with the nearest sample above, uu, and the ones beside
+// it, c1 and c2, where in0, in1, in2 say which of the three are within Eq 20 of p: see
+// verticalUnions. Returns the last position it covers: p, or beyond it where the positions after
+// it can only unite what is united now.
+__attribute__((always_inline)) inline std::uint32_t joinAbove(const VerticalRing& V, std::uint32_t rp, Label l,
+                                                              std::uint32_t p, std::uint32_t pe, std::uint32_t uu,
+                                                              std::uint32_t c1, std::uint32_t c2, bool in0, bool in1,
+                                                              bool in2, std::uint32_t& last_rp, std::uint32_t& last_rq)
+{
+  const Label* const lab = V.lab;
+  const float* const azimuth = V.azimuth;
+  const float az_tol = V.az_tol, aa = azimuth[p];
+  const auto joins = [lab, l, aa, azimuth, az_tol](std::uint32_t q, bool in, bool check_azimuth) {
+    return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
+  };
+  // organized clouds: a column is one firing, beams may have their own azimuth offsets
+  std::uint32_t q = uu;
+  if (!joins(q, in0, !V.organized))
+  {
+    q = c1;
+    if (!joins(q, in1, true))
+    {
+      q = c2;
+      if (!joins(q, in2, true)) return p;
+    }
+  }
+  const std::uint32_t rq = V.run[q];  // q has p's label: a run of its own
+  if (rp != last_rp || rq != last_rq)
+  {
+    unite(V.parent, rp, rq);
+    last_rp = rp;
+    last_rq = rq;
+  }
+  // The next positions of the same run whose candidates all lie in rq's run (no seam
+  // between them) can only unite what is united now: skip them untested. Runs are
+  // contiguous: u-1, u, u+1 lie in rq's [qb, qe) when qb + 1 <= u <= qe - 2 (then also
+  // b < u and u + 1 < e): one compare a position, where reading run[] at u - 1 and u + 1
+  // took two loads and four tests.
+  const std::uint32_t qb = V.runs[rq].begin, qe = V.runs[rq].end;
+  if (qe - qb >= 3)
+  {
+    const std::uint32_t u_lo = qb + 1, span = qe - qb - 3;
+    while (p + 1 < pe && static_cast<std::uint32_t>(V.up[p + 1]) - u_lo <= span) ++p;  // u = -1 wraps: out
+  }
+  return p;
+}
+
 // Vertical neighbours of ring n-1 (its runs [k0, k1)) in ring n [b, e): the nearest sample in
 // azimuth, or one beside it, within Eq 19. Run by run: a position of an unwanted label has no
 // run and is never visited, and a run's id, end and label are known without a look-up per
 // position. Neighbouring runs meet many times over: the last pair of runs united is
-// remembered, and the same pair again needs no find(). (none: no run has that id.)
-RC_SIMD_CLONES __attribute__((noinline)) void verticalUnions(std::uint32_t k0, std::uint32_t k1, std::uint32_t b,
-                                              std::uint32_t e, const PrimitiveExtractor::Run* __restrict runs,
-                                              const Label* __restrict lab, const std::int32_t* __restrict up,
-                                              const double* __restrict range, const float* __restrict azimuth,
-                                              bool organized, double range_ratio, double range_min, float az_tol,
-                                              std::uint32_t none, const std::uint32_t* __restrict run,
-                                              std::uint32_t* parent)
+// remembered, and the same pair again needs no find(). (none: no run has that id.) This is the
+// baseline code; with AVX2 verticalUnionsAvx2 (below) runs.
+__attribute__((noinline)) void verticalUnions(const VerticalRing& V, std::uint32_t k0, std::uint32_t k1,
+                                              std::uint32_t none)
 {
   std::uint32_t last_rp = none, last_rq = none;
-  const double half = range_ratio * 0.5;  // inRange's range_ratio * 0.5 * (ra + rb), left to right
-  const D4 half_ratio = D4{half, half, half, half}, min4 = D4{range_min, range_min, range_min, range_min};
+  const D4 half_ratio = D4{0, 0, 0, 0} + V.half_ratio, min4 = D4{0, 0, 0, 0} + V.range_min;
   const I4 abs_mask = I4{0, 0, 0, 0} + 0x7fffffffffffffffLL;
   for (std::uint32_t rp = k0; rp < k1; ++rp)
   {
-    const std::uint32_t pe = runs[rp].end;
-    const Label l = lab[runs[rp].begin];
-    for (std::uint32_t p = runs[rp].begin; p < pe; ++p)
+    const std::uint32_t pe = V.runs[rp].end;
+    const Label l = V.lab[V.runs[rp].begin];
+    for (std::uint32_t p = V.runs[rp].begin; p < pe; ++p)
     {
-      if (up[p] < 0) continue;
-      const auto uu = static_cast<std::uint32_t>(up[p]);
-      const double ra = range[p];
-      const float aa = azimuth[p];
-      const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
+      if (V.up[p] < 0) continue;
+      const auto uu = static_cast<std::uint32_t>(V.up[p]);
+      const double ra = V.range[p];
+      const std::uint32_t c1 = uu > V.b ? uu - 1 : V.e - 1, c2 = uu + 1 < V.e ? uu + 1 : V.b;
       // Most positions that find no candidate fail on the range for all three (the ground,
       // ring to ring): the three range tests first, without branches, and the label and
       // azimuth tests in order only where one passes.
       // (Eq 20 for the three in one vector, lane by lane the operations of inRange: fabs as a
       // cleared sign bit, std::max(t, min) as t < min ? min : t.)
-      const D4 rb = D4{range[uu], range[c1], range[c2], range[c2]}, ra4 = D4{ra, ra, ra, ra};
+      const D4 rb = D4{V.range[uu], V.range[c1], V.range[c2], V.range[c2]}, ra4 = D4{ra, ra, ra, ra};
       const D4 t = half_ratio * (ra4 + rb);
       const D4 tol = t < min4 ? min4 : t;
       const D4 dist = reinterpret_cast<D4>(reinterpret_cast<I4>(ra4 - rb) & abs_mask);
       const I4 out = dist > tol;  // -1 where out of range
       if ((out[0] & out[1] & out[2]) != 0) continue;
-      const bool in0 = out[0] == 0, in1 = out[1] == 0, in2 = out[2] == 0;
-      const auto joins = [lab, l, aa, azimuth, az_tol](std::uint32_t q, bool in, bool check_azimuth) {
-        return in && lab[q] == l && (!check_azimuth || angDiff(aa, azimuth[q]) <= az_tol);  // Eq 19
-      };
-      // organized clouds: a column is one firing, beams may have their own azimuth offsets
-      std::uint32_t q = uu;
-      if (!joins(q, in0, !organized))
-      {
-        q = c1;
-        if (!joins(q, in1, true))
-        {
-          q = c2;
-          if (!joins(q, in2, true)) continue;
-        }
-      }
-      const std::uint32_t rq = run[q];  // q has p's label: a run of its own
-      if (rp != last_rp || rq != last_rq)
-      {
-        unite(parent, rp, rq);
-        last_rp = rp;
-        last_rq = rq;
-      }
-      // The next positions of the same run whose candidates all lie in rq's run (no seam
-      // between them) can only unite what is united now: skip them untested. Runs are
-      // contiguous: u-1, u, u+1 lie in rq's [qb, qe) when qb + 1 <= u <= qe - 2 (then also
-      // b < u and u + 1 < e): one compare a position, where reading run[] at u - 1 and u + 1
-      // took two loads and four tests.
-      const std::uint32_t qb = runs[rq].begin, qe = runs[rq].end;
-      if (qe - qb >= 3)
-      {
-        const std::uint32_t u_lo = qb + 1, span = qe - qb - 3;
-        while (p + 1 < pe && static_cast<std::uint32_t>(up[p + 1]) - u_lo <= span) ++p;  // u = -1 wraps: out
-      }
+      p = joinAbove(V, rp, l, p, pe, uu, c1, c2, out[0] == 0, out[1] == 0, out[2] == 0, last_rp, last_rq);
     }
   }
 }
+
+#if defined(RC_SIMD_CLONES_ON)
+// verticalUnions with AVX2 intrinsics: the same tests, lane by lane, in fewer operations. Off the
+// seam (uu - 1 and uu + 1 in the ring) the three candidates' ranges are one unaligned load
+// (lanes uu - 1, uu, uu + 1 and one unused), where building the vector of three took two loads
+// and two shuffles more; the three verdicts are one move mask, where the generic vector code
+// moved them out lane by lane (four more operations, two of them shuffles). Most visited
+// positions stop there (all three out of range), so their cost is mostly these operations.
+__attribute__((target("avx2"), noinline)) void verticalUnionsAvx2(const VerticalRing& V, std::uint32_t k0,
+                                                                  std::uint32_t k1, std::uint32_t none)
+{
+  // (inRange's operations: fabs as a cleared sign bit, t < min ? min : t as max(min, t))
+  const __m256d half4 = _mm256_set1_pd(V.half_ratio), min4 = _mm256_set1_pd(V.range_min);
+  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+  const std::uint32_t b = V.b, e = V.e;
+  const std::int32_t* const up = V.up;
+  const double* const range = V.range;
+  std::uint32_t last_rp = none, last_rq = none;
+  for (std::uint32_t rp = k0; rp < k1; ++rp)
+  {
+    const std::uint32_t pe = V.runs[rp].end;
+    const Label l = V.lab[V.runs[rp].begin];
+    for (std::uint32_t p = V.runs[rp].begin; p < pe; ++p)
+    {
+      if (up[p] < 0) continue;
+      const auto uu = static_cast<std::uint32_t>(up[p]);
+      const std::uint32_t c1 = uu > b ? uu - 1 : e - 1, c2 = uu + 1 < e ? uu + 1 : b;
+      // lanes (c1, uu, c2, -)
+      const __m256d rb = uu > b && uu + 2 < e ? _mm256_loadu_pd(range + uu - 1)
+                                              : _mm256_setr_pd(range[c1], range[uu], range[c2], range[c2]);
+      const __m256d ra = _mm256_broadcast_sd(range + p);
+      const __m256d t = _mm256_mul_pd(half4, _mm256_add_pd(ra, rb));
+      const __m256d tol = _mm256_max_pd(min4, t);
+      const __m256d dist = _mm256_and_pd(_mm256_sub_pd(ra, rb), abs_mask);
+      const int out = _mm256_movemask_pd(_mm256_cmp_pd(dist, tol, _CMP_GT_OQ));
+      if ((out & 7) == 7) continue;
+      p = joinAbove(V, rp, l, p, pe, uu, c1, c2, (out & 2) == 0, (out & 1) == 0, (out & 4) == 0, last_rp, last_rq);
+    }
+  }
+}
+#endif
 
 // The duplicates' indices and grid positions into their slots: `first` (at their roots) plus
 // rank. Where no primitive is (comp -1, or an unwanted label's run: negative, both at least
@@ -268,6 +337,9 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   std::uint8_t* const join = join_.data();
   const auto none = static_cast<std::uint32_t>(m);
   parent[none] = none;
+#if defined(RC_SIMD_CLONES_ON)
+  const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
   // A component's size is counted at its root. A duplicate of an unwanted label's position
   // counts at `none`, which starts far below zero: it counts without a test and its component
   // reads as rejected (negative).
@@ -290,8 +362,17 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
         parent[run[e - 1]] = run[b];
     }
     if (n > 0 && up != nullptr)
-      verticalUnions(static_cast<std::uint32_t>(ring_runs), static_cast<std::uint32_t>(first_run), b, e, runs, lab,
-                     up, range, azimuth, organized, range_ratio, range_min, az_tol, none, run, parent);
+    {
+      const VerticalRing V{b, e, runs, lab, up, range, azimuth, organized, range_ratio * 0.5, range_min, az_tol,
+                           run, parent};
+      const auto k0 = static_cast<std::uint32_t>(ring_runs), k1 = static_cast<std::uint32_t>(first_run);
+#if defined(RC_SIMD_CLONES_ON)
+      if (avx2)
+        verticalUnionsAvx2(V, k0, k1, none);
+      else
+#endif
+        verticalUnions(V, k0, k1, none);
+    }
     ring_runs = first_run;
   }
 

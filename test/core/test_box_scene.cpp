@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <numeric>
 
 #include "../support/ray_scene.hpp"
 #include "ring_curvature/pipeline.hpp"
@@ -129,6 +130,99 @@ void runBoxScene(double sigma, const Expect& want)
   EXPECT_GE(edge_precision.rate(), want.edge_precision);
   EXPECT_GE(face.rate(), want.face);
 }
+
+// The primitives of a frame from a plain union-find over grid positions with the rules of
+// Section 4.3 (one union per joining pair, no runs, no shortcuts): each position joins its ring
+// predecessor and across the seam when both have the same wanted label and are close (Eq 19-20),
+// and the first of the nearest sample above and the two beside it that has its label and is
+// close; duplicates join their representative's component. Checks the extractor's grid map, the
+// primitives' sizes and labels, and their indices (grid points in scan order, then duplicates in
+// input order).
+void checkPrimitivesAgainstPlainUnionFind(const Pipeline& pipe, const FrameResult& r)
+{
+  const ScanGrid& g = pipe.grid();
+  const Params& P = pipe.params();
+  const std::vector<Label>& lab = pipe.gridLabels();
+  const std::size_t m = g.size();
+  std::vector<std::uint32_t> parent(m);
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&parent](std::uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  const auto unite = [&](std::uint32_t a, std::uint32_t b) {
+    parent[std::max(find(a), find(b))] = std::min(find(a), find(b));
+  };
+  const auto wanted = [&P](Label l) {
+    return l == Label::Plane || l == Label::Edge || l == Label::Corner || (l == Label::Rough && P.rough_primitives);
+  };
+  const float az_tol = P.proximity_azimuth_factor * g.azimuth_resolution;
+  const auto close = [&](std::uint32_t a, std::uint32_t b, bool check_azimuth) {
+    const double ra = g.range[a], rb = g.range[b];
+    const double tol = std::max(static_cast<double>(P.proximity_range_ratio) * 0.5 * (ra + rb),
+                                static_cast<double>(P.proximity_range_min));
+    float d = std::fabs(g.azimuth[a] - g.azimuth[b]);
+    d = d > 3.14159265358979f ? 2 * 3.14159265358979f - d : d;
+    return !(std::fabs(ra - rb) > tol) && (!check_azimuth || d <= az_tol);
+  };
+  for (int n = 0; n < g.num_rings; ++n)
+  {
+    const std::uint32_t b = g.ring_begin[n], e = g.ring_begin[n + 1];
+    for (std::uint32_t p = b + 1; p < e; ++p)
+      if (wanted(lab[p]) && lab[p - 1] == lab[p] && g.linked[p] && close(p - 1, p, true)) unite(p - 1, p);
+    if (e - b >= 2 && wanted(lab[e - 1]) && g.linked[b] && lab[b] == lab[e - 1] && close(e - 1, b, true))
+      unite(e - 1, b);
+    if (n == 0) continue;
+    for (std::uint32_t p = g.ring_begin[n - 1]; p < b; ++p)
+    {
+      if (!wanted(lab[p]) || g.up[p] < 0) continue;
+      const auto u = static_cast<std::uint32_t>(g.up[p]);
+      const std::uint32_t cand[3] = {u, u > b ? u - 1 : e - 1, u + 1 < e ? u + 1 : b};
+      for (int c = 0; c < 3; ++c)
+        if (lab[cand[c]] == lab[p] && close(p, cand[c], c > 0 || !g.organized))
+        {
+          unite(p, cand[c]);
+          break;
+        }
+    }
+  }
+  // sizes with the duplicates, ids in scan order of the components' first positions
+  std::vector<std::uint32_t> size(m, 0);
+  for (std::uint32_t p = 0; p < m; ++p) size[find(p)] += wanted(lab[p]) ? 1 : 0;
+  for (std::uint32_t i : g.duplicates)
+  {
+    const auto p = static_cast<std::uint32_t>(g.grid_pos[i]);
+    size[find(p)] += wanted(lab[p]) ? 1 : 0;
+  }
+  std::vector<std::int32_t> id_of_root(m, -1), of_grid(m, -1);
+  std::vector<std::vector<std::uint32_t>> indices;
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    const std::uint32_t root = find(p);
+    if (!wanted(lab[p]) || size[root] < static_cast<std::uint32_t>(P.min_primitive_points)) continue;
+    if (id_of_root[root] < 0)
+    {
+      id_of_root[root] = static_cast<std::int32_t>(indices.size());
+      indices.emplace_back();
+    }
+    of_grid[p] = id_of_root[root];
+    indices[static_cast<std::size_t>(of_grid[p])].push_back(g.index[p]);
+  }
+  for (std::uint32_t i : g.duplicates)
+  {
+    const std::int32_t id = of_grid[static_cast<std::size_t>(g.grid_pos[i])];
+    if (id >= 0) indices[static_cast<std::size_t>(id)].push_back(i);
+  }
+  EXPECT_EQ(r.primitives.of_grid, of_grid);
+  ASSERT_EQ(r.primitives.primitives.size(), indices.size());
+  for (const PrimitiveInfo& pr : r.primitives.primitives)
+  {
+    const auto first = r.primitives.indices.begin() + pr.first;
+    EXPECT_TRUE(std::vector<std::uint32_t>(first, first + pr.num_points) == indices[pr.id])
+        << "primitive " << pr.id;
+    EXPECT_EQ(pr.label, lab[static_cast<std::size_t>(g.grid_pos[indices[pr.id][0]])]);
+  }
+}
 }  // namespace
 
 TEST(BoxScene, NoiseFreeCreasesJumpsAndFaces) { runBoxScene(0.0, {0.9, 0.95, 0.9, 0.98}); }
@@ -203,6 +297,39 @@ TEST(BoxScene, PrimitiveSummariesArePerPointSums)
     if (cloud == &dual)
     {
       EXPECT_GT(duplicates, r.primitives.indices.size() / 3);
+    }
+  }
+}
+
+// The extractor's components (runs, vertical unions run by run with their shortcuts, the AVX2
+// paths) against the plain union-find above: unorganized and organized, with and without
+// duplicates, with and without Rough primitives, noise-free and noisy.
+TEST(BoxScene, PrimitivesAreThoseOfAPlainUnionFind)
+{
+  const SensorModel vlp = SensorModel::uniform(16, -15, 15, 0.2);
+  for (const double noise : {0.0, 0.01, 0.05})
+  {
+    const ScannedFrame f = scan(boxScene(), vlp, noise, 11);
+    SyntheticCloud dual;
+    const std::uint32_t step = f.cloud.pointStep();
+    for (std::size_t i = 0; i < f.cloud.size(); ++i)
+      for (int t = 0; t < 2; ++t)
+        dual.bytes().insert(dual.bytes().end(), f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * step),
+                            f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>((i + 1) * step));
+    for (const bool rough : {false, true})
+    {
+      Params params;
+      params.rough_primitives = rough;
+      Pipeline pipe(params);
+      FrameResult r;
+      const PointCloudView views[] = {f.cloud.view(), f.cloud.view(16), dual.view()};
+      for (const PointCloudView& v : views)
+      {
+        ASSERT_TRUE(pipe.process(v, r).ok);
+        EXPECT_EQ(pipe.grid().organized, v.height > 1);
+        ASSERT_GT(r.primitives.primitives.size(), 5u);
+        checkPrimitivesAgainstPlainUnionFind(pipe, r);
+      }
     }
   }
 }
