@@ -223,6 +223,18 @@ void checkPrimitivesAgainstPlainUnionFind(const Pipeline& pipe, const FrameResul
     EXPECT_EQ(pr.label, lab[static_cast<std::size_t>(g.grid_pos[indices[pr.id][0]])]);
   }
 }
+// Every point twice in a row: a dual-return frame whose returns are all identical.
+SyntheticCloud everyPointTwice(const SyntheticCloud& cloud)
+{
+  SyntheticCloud dual;
+  const std::uint32_t step = cloud.pointStep();
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    for (int t = 0; t < 2; ++t)
+      dual.bytes().insert(dual.bytes().end(), cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * step),
+                          cloud.bytes().begin() + static_cast<std::ptrdiff_t>((i + 1) * step));
+  return dual;
+}
+
 }  // namespace
 
 TEST(BoxScene, NoiseFreeCreasesJumpsAndFaces) { runBoxScene(0.0, {0.9, 0.95, 0.9, 0.98}); }
@@ -240,12 +252,7 @@ TEST(BoxScene, PrimitiveSummariesArePerPointSums)
 {
   const SensorModel vlp = SensorModel::uniform(16, -15, 15, 0.2);
   const ScannedFrame f = scan(boxScene(), vlp, 0.01, 5);
-  SyntheticCloud dual;
-  const std::uint32_t step = f.cloud.pointStep();
-  for (std::size_t i = 0; i < f.cloud.size(); ++i)
-    for (int t = 0; t < 2; ++t)
-      dual.bytes().insert(dual.bytes().end(), f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * step),
-                          f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>((i + 1) * step));
+  const SyntheticCloud dual = everyPointTwice(f.cloud);
   const SyntheticCloud* const clouds[] = {&f.cloud, &dual};
   for (const SyntheticCloud* cloud : clouds)
   {
@@ -310,12 +317,7 @@ TEST(BoxScene, PrimitivesAreThoseOfAPlainUnionFind)
   for (const double noise : {0.0, 0.01, 0.05})
   {
     const ScannedFrame f = scan(boxScene(), vlp, noise, 11);
-    SyntheticCloud dual;
-    const std::uint32_t step = f.cloud.pointStep();
-    for (std::size_t i = 0; i < f.cloud.size(); ++i)
-      for (int t = 0; t < 2; ++t)
-        dual.bytes().insert(dual.bytes().end(), f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>(i * step),
-                            f.cloud.bytes().begin() + static_cast<std::ptrdiff_t>((i + 1) * step));
+    const SyntheticCloud dual = everyPointTwice(f.cloud);
     for (const bool rough : {false, true})
     {
       Params params;
