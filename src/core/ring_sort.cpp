@@ -74,10 +74,9 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     next[r] = ringBase(grid, r);
     unsorted[next[r] - 1] = unsorted[next[r] - 2] = n;  // azimuth key 0, index n
   }
-  //    The sort by ring also folds identical returns (in the same pass, or right after it for
-  //    rings interleaved point by point; see below). Dual-return drivers send both returns of a firing,
-  //    identical where the beam met one surface (half the points of a dual-return VLP-16
-  //    frame), one or two places apart in the ring's sequence. Such a point (same azimuth and
+  //    The sort by ring also folds identical returns, in the same pass (see below). Dual-return
+  //    drivers send both returns of a firing, identical where the beam met one surface (half the
+  //    points of a dual-return VLP-16 frame), one or two places apart in the ring's sequence. Such a point (same azimuth and
   //    range as one of the ring's last two kept points) stays off the sort, and
   //    resolveFollowers gives it the state and grid position of its twin. That is exactly what
   //    removeDuplicates would have decided: sorted by (azimuth, index) it comes after its twin,

@@ -310,17 +310,24 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
     return pos;
   };
   const std::vector<std::size_t> at = positions_by(ref_key);  // in the reference
-  std::size_t same = 0;
-  for (std::size_t i = 0; i < dual_order.size(); ++i)
-  {
-    const std::size_t j = at[i];
-    const bool curv_same = std::memcmp(&rd.curvature[i], &rr.curvature[j], sizeof(float)) == 0;
-    same += gd.state[i] == gr.state[j] && rd.label[i] == rr.label[j] && rd.primitive[i] == rr.primitive[j] &&
-                    curv_same
-                ? 1
-                : 0;
-  }
-  EXPECT_EQ(same, dual_order.size());
+  // How many items of the dual order, at `pos` in a frame (g, r), have the reference's state,
+  // label and primitive, and with `curvature` the same curvature bits.
+  const auto agreeing = [&](const ScanGrid& g, const FrameResult& r, const std::vector<std::size_t>& pos,
+                            bool curvature) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < dual_order.size(); ++i)
+    {
+      const std::size_t q = pos[i], j = at[i];
+      const bool curv_same = !curvature || std::memcmp(&r.curvature[q], &rr.curvature[j], sizeof(float)) == 0;
+      count += g.state[q] == gr.state[j] && r.label[q] == rr.label[j] && r.primitive[q] == rr.primitive[j] && curv_same
+                   ? 1
+                   : 0;
+    }
+    return count;
+  };
+  std::vector<std::size_t> as_given(dual_order.size());
+  std::iota(as_given.begin(), as_given.end(), 0);
+  EXPECT_EQ(agreeing(gd, rd, as_given, true), dual_order.size());
   ASSERT_EQ(rd.primitives.primitives.size(), rr.primitives.primitives.size());
   for (std::size_t k = 0; k < rd.primitives.primitives.size(); ++k)
     EXPECT_EQ(rd.primitives.primitives[k].num_points, rr.primitives.primitives[k].num_points);
@@ -345,14 +352,7 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   EXPECT_EQ(gl.num_duplicates, gr.num_duplicates);
   EXPECT_EQ(gl.num_second_returns, gr.num_second_returns);
   // the late order and the reference both keep the dual order within each (ring, rank) group
-  const std::vector<std::size_t> late_at = positions_by(late_key);
-  std::size_t late_same = 0;
-  for (std::size_t i = 0; i < dual_order.size(); ++i)
-  {
-    const std::size_t l = late_at[i], j = at[i];
-    late_same += gl.state[l] == gr.state[j] && rl.label[l] == rr.label[j] && rl.primitive[l] == rr.primitive[j] ? 1 : 0;
-  }
-  EXPECT_EQ(late_same, dual_order.size());
+  EXPECT_EQ(agreeing(gl, rl, positions_by(late_key), false), dual_order.size());
 
   // Velodyne's firing order: the rings interleaved, a firing pair's returns of every ring in
   // turn, each ring's own sequence still the dual order. Folded in the scatter by ring (a ring's
@@ -372,17 +372,7 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   EXPECT_EQ(gf.num_duplicates, gr.num_duplicates);
   EXPECT_EQ(gf.num_second_returns, gr.num_second_returns);
   EXPECT_EQ(gf.azimuth_resolution, gr.azimuth_resolution);
-  const std::vector<std::size_t> firing_at = positions_by(firing_key);
-  std::size_t firing_same = 0;
-  for (std::size_t i = 0; i < dual_order.size(); ++i)
-  {
-    const std::size_t q = firing_at[i], j = at[i];
-    firing_same += gf.state[q] == gr.state[j] && rf.label[q] == rr.label[j] && rf.primitive[q] == rr.primitive[j] &&
-                           std::memcmp(&rf.curvature[q], &rr.curvature[j], sizeof(float)) == 0
-                       ? 1
-                       : 0;
-  }
-  EXPECT_EQ(firing_same, dual_order.size());
+  EXPECT_EQ(agreeing(gf, rf, positions_by(firing_key), true), dual_order.size());
 }
 
 TEST(ScanGrid, OrganizedCloudUsesRowsAndColumns)
