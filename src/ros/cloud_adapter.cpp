@@ -8,8 +8,6 @@
 namespace ring_curvature
 {
 
-const char* const kTimeFieldNames[3] = {"time", "t", "timestamp"};
-
 namespace
 {
 

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "ab_shim.h"
+#include "ring_curvature/ros/cloud_adapter.hpp"  // kTimeFieldNames (a constant: nothing to link)
 
 using Clock = std::chrono::steady_clock;
 
@@ -235,7 +236,7 @@ RcAbCloud toCloud(const sensor_msgs::PointCloud2& msg)
   c.ring.type = fieldType(msg, "ring", c.ring.offset);
   c.intensity.type = fieldType(msg, "intensity", c.intensity.offset);
   c.time.offset = -1;
-  for (const char* name : {"time", "t", "timestamp"})
+  for (const char* name : ring_curvature::kTimeFieldNames)
   {
     RcAbField f{};
     f.type = fieldType(msg, name, f.offset);

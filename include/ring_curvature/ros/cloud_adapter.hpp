@@ -13,8 +13,9 @@ namespace ring_curvature
 {
 
 /// Names accepted for the per-point time field, in order of preference (Velodyne, Ouster,
-/// Hesai / others).
-extern const char* const kTimeFieldNames[3];
+/// Hesai / others). (In the header, so that tools which do not link the adapter, such as
+/// src/tools/ab_core.cpp, find the time field by the same list.)
+inline constexpr const char* kTimeFieldNames[3] = {"time", "t", "timestamp"};
 
 /// Fills `view` with pointers into `msg.data` (the view is only valid while `msg` lives).
 /// Checks what is ROS-specific: endianness, field names and datatypes, field extents against
