@@ -22,31 +22,28 @@ inline bool isFeature(Label l) { return (static_cast<std::uint8_t>(l) & kFeature
 static_assert(static_cast<int>(Label::Edge) == 2 && static_cast<int>(Label::Corner) == 3 &&
               static_cast<int>(Label::Rough) == 4 && static_cast<int>(Label::Plane) == 1, "see kFeatureBit");
 
-// First k in [u, end) with an Edge or Corner (end if none), eight labels at a time.
-std::uint32_t nextFeature(const Label* lab, std::uint32_t u, std::uint32_t end)
+// First k in [u, stop) with an Edge or Corner at k and k + 1 and a link from k to k + 1 (stop if
+// none; reads up to index stop), eight samples at a time.
+std::uint32_t nextPair(const Label* lab, const std::uint8_t* linked, std::uint32_t u, std::uint32_t stop)
 {
-  constexpr std::uint64_t kBits = 0x0101010101010101ull * kFeatureBit;
-  for (; u + 8 <= end; u += 8)
+  constexpr std::uint64_t kBits = 0x0101010101010101ull * kFeatureBit, kLow7 = 0x7F7F7F7F7F7F7F7Full;
+  for (; u + 8 <= stop; u += 8)
   {
-    std::uint64_t w;
-    std::memcpy(&w, lab + u, sizeof w);
-    if ((w & kBits) == 0) continue;
+    std::uint64_t here, next, link;
+    std::memcpy(&here, lab + u, sizeof here);
+    std::memcpy(&next, lab + u + 1, sizeof next);
+    std::memcpy(&link, linked + u + 1, sizeof link);
+    // a byte's top bit set when it is not zero (no carry crosses bytes), moved to bit 1
+    const std::uint64_t linked_bits = ((((link & kLow7) + kLow7) | link) >> 6) & kBits;
+    const std::uint64_t w = here & next & linked_bits & kBits;
+    if (w == 0) continue;
 #if defined(__GNUC__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-    // label u + j is byte j: its feature bit is bit 8 j + 1
-    return u + static_cast<std::uint32_t>(__builtin_ctzll(w & kBits)) / 8;
+    return u + static_cast<std::uint32_t>(__builtin_ctzll(w)) / 8;  // byte j: bit 8 j + 1
 #else
-    // the samples before the first feature of the eight, counted without a branch to mispredict
-    std::uint32_t before = 0;
-    bool seen = false;
-    for (std::uint32_t j = 0; j < 8; ++j)
-    {
-      seen |= isFeature(lab[u + j]);
-      before += seen ? 0 : 1;
-    }
-    return u + before;
+    break;  // the sample loop below finds it
 #endif
   }
-  while (u < end && !isFeature(lab[u])) ++u;
+  while (u < stop && !(isFeature(lab[u]) && isFeature(lab[u + 1]) && linked[u + 1])) ++u;
   return u;
 }
 
@@ -142,10 +139,14 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
   auto at = [K](std::uint32_t u) { return u < K ? u : u - K; };
   for (std::uint32_t u = start; u < end;)
   {
-    // most samples are no feature: skip them, before the seam and after it
-    if (u < K) u = nextFeature(lab, u, std::min(end, K));
-    if (u >= K) u = K + nextFeature(lab, u - K, end - K);
-    if (u == end) break;
+    // Most samples are no feature, and most runs are one sample (KITTI: 58 %, VLP-16: 44 %),
+    // which needs nothing (an Edge alone is its own peak; a Corner stays): skip to the first
+    // sample followed by one of its run, before the seam, across it and after it. (Walking the
+    // runs of one sample cost a few mispredicted loop exits each.)
+    if (u + 1 < K) u = nextPair(lab, linked, u, std::min(end - 1, K - 1));
+    if (u == K - 1 && u + 1 < end && !(isFeature(lab[K - 1]) && isFeature(lab[0]) && linked[0])) ++u;
+    if (u >= K && u + 1 < end) u = K + nextPair(lab, linked, u - K, end - 1 - K);
+    if (u + 1 >= end) break;
     // the run [u, v)
     std::uint32_t v = u + 1;
     for (; v < end; ++v)

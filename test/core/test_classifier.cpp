@@ -370,3 +370,125 @@ TEST(Classifier, VegetationIsRough)
   std::printf("hedge points Rough: %zu / %zu\n", hedge_rough, hedge_total);
   EXPECT_GT(static_cast<double>(hedge_rough) / static_cast<double>(hedge_total), 0.6);
 }
+
+// Non-maximum suppression against the rule written out run by run: of each run of linked Edges
+// and Corners (followed across the seam of a closed ring), a run touching a Corner keeps no Edge,
+// any other keeps its first largest turning angle. Rings open and closed, of 0 to 700 samples,
+// with runs of one to 19 samples, gaps (links of any non-zero byte), runs across the seam (one
+// starting at the last sample) and a ring that is one run: the search skips runs of one sample
+// eight labels at a time.
+TEST(Classifier, NonMaxSuppressionKeepsEachRunsPeak)
+{
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  ScanGrid grid;
+  Features f;
+  grid.ring_begin = {0};
+  const int sizes[] = {700, 0, 1, 2, 9, 517, 64, 333, 40, 256, 129};
+  const int rings = static_cast<int>(sizeof sizes / sizeof sizes[0]);
+  const std::uint8_t links[] = {1, 1, 1, 2, 0x80, 0xFF};
+  for (int ring = 0; ring < rings; ++ring)
+  {
+    const bool all_one_run = ring == 8;
+    int left = 0;  // samples left in the current stretch
+    bool feature = false;
+    for (int i = 0; i < sizes[ring]; ++i)
+    {
+      if (left == 0)
+      {
+        feature = all_one_run || !feature;
+        left = 1 + static_cast<int>(u(rng) * (u(rng) < 0.5f ? 3.0f : 19.0f));
+      }
+      --left;
+      const float kind = u(rng);
+      const bool corner = feature && kind < 0.08f, rough = !feature && kind < 0.1f;
+      // Edge: turning above 0.5 and a short chord; Plane below it
+      f.turning.push_back(feature && !corner ? 0.6f + std::floor(u(rng) * 8.0f) / 8.0f : 0.1f * u(rng));
+      f.curvature.push_back(0.01f);
+      f.smoothness.push_back(rough ? 0.9f : 0.0f);
+      f.discontinuity.push_back(corner ? 0.9f : 0.0f);
+      grid.range.push_back(10.0);
+      grid.linked.push_back(all_one_run || u(rng) > 0.05f ? links[static_cast<std::size_t>(u(rng) * 6.0f)] : 0);
+      grid.index.push_back(static_cast<std::uint32_t>(grid.index.size()));
+    }
+    const bool closed = ring % 3 != 1;
+    if (!closed && sizes[ring] > 0) grid.linked[grid.ring_begin.back()] = 0;  // as the grid leaves an open ring
+    grid.ring_closed.push_back(closed ? 1 : 0);
+    grid.ring_begin.push_back(static_cast<std::uint32_t>(grid.index.size()));
+  }
+  grid.num_rings = rings;
+  {
+    // ring 9 (closed): a run that starts at its last sample and goes on across the seam
+    const std::uint32_t b = grid.ring_begin[9], K = grid.ring_begin[10] - b;
+    const float turn[5] = {0.1f, 0.7f, 0.9f, 0.8f, 0.1f};  // samples K - 2, K - 1, 0, 1, 2
+    const std::uint32_t at[5] = {K - 2, K - 1, 0, 1, 2};
+    for (int j = 0; j < 5; ++j)
+    {
+      f.turning[b + at[j]] = turn[j];
+      f.smoothness[b + at[j]] = f.discontinuity[b + at[j]] = 0.0f;
+      grid.linked[b + at[j]] = 1;
+    }
+  }
+  RingThresholds t;
+  t.curvature_high = t.curvature_low = 0.5f;
+  t.smoothness_high = 0.5f;
+  t.discontinuity_high = t.discontinuity_low = 0.5f;
+  const std::vector<RingThresholds> thr(static_cast<std::size_t>(rings), t);
+  Params P;
+  P.non_max_suppression = false;
+  Classifier c;
+  std::vector<Label> raw, labels;
+  c.classify(grid, f, P, thr, raw);
+  P.non_max_suppression = true;
+  c.classify(grid, f, P, thr, labels);
+  std::size_t runs = 0, seam_runs = 0, kept = 0;
+  for (int ring = 0; ring < rings; ++ring)
+  {
+    const std::uint32_t b = grid.ring_begin[ring], K = grid.ring_begin[ring + 1] - b;
+    const bool closed = grid.ring_closed[ring] != 0;
+    auto feature = [&](std::uint32_t k) { return raw[b + k] == Label::Edge || raw[b + k] == Label::Corner; };
+    // k continues the run of the sample before it (k - 1, or K - 1 for k = 0 on a closed ring)
+    auto continues = [&](std::uint32_t k) { return feature(k) && grid.linked[b + k] != 0 && (closed || k != 0); };
+    std::vector<Label> want(raw.begin() + b, raw.begin() + b + K);
+    std::uint32_t s = 0;
+    while (s < K && continues(s)) ++s;
+    for (std::uint32_t i = 0; s < K && i < K;)
+    {
+      const std::uint32_t k0 = (s + i) % K;
+      if (!feature(k0))
+      {
+        ++i;
+        continue;
+      }
+      std::uint32_t len = 1;
+      while (i + len < K && continues((s + i + len) % K)) ++len;
+      bool corner = false;
+      std::uint32_t peak = K;
+      float best = -1.0f;
+      for (std::uint32_t j = 0; j < len; ++j)
+      {
+        const std::uint32_t k = (s + i + j) % K;
+        corner |= raw[b + k] == Label::Corner;
+        if (raw[b + k] == Label::Edge && f.turning[b + k] > best)
+        {
+          best = f.turning[b + k];
+          peak = k;
+        }
+      }
+      for (std::uint32_t j = 0; j < len; ++j)
+      {
+        const std::uint32_t k = (s + i + j) % K;
+        if (raw[b + k] == Label::Edge && (corner || k != peak)) want[k] = Label::Plane;
+      }
+      ++runs;
+      seam_runs += len > 1 && (s + i) % K + len > K ? 1 : 0;
+      kept += !corner && peak < K ? 1 : 0;
+      i += len;
+    }
+    for (std::uint32_t k = 0; k < K; ++k)
+      ASSERT_EQ(static_cast<int>(labels[b + k]), static_cast<int>(want[k])) << "ring " << ring << " sample " << k;
+  }
+  EXPECT_GT(runs, 150u);
+  EXPECT_GT(seam_runs, 1u);
+  EXPECT_GT(kept, 50u);
+}
