@@ -6,6 +6,7 @@
 
 #include <boost/make_shared.hpp>
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -156,9 +157,28 @@ inline U32x4 loadU32x4(const T* p)
   return v;
 }
 
+// The output clouds are written in a stream of stores to lines that are in no cache (a recycled
+// buffer was last written a frame ago, a new one never): each store waits for its line, the store
+// buffer fills and the pass stalls: it took 2.5 times as long as a memcpy of the same bytes. The
+// lines kStoreAhead points ahead are asked for while the current ones are written: the labelled
+// and plane clouds' pass took 0.67-0.70 of its time (in-process A/B over the 29k-point frames,
+// 24, 48 and 96 points ahead alike; prefetchw, where the CPU has it, did no better).
+constexpr std::size_t kStoreAhead = 48, kLine = 64;
+
+// Prefetches `lines` cache lines from `offset` bytes past `p` on. An integer sum: the lines may
+// lie past the end of the buffer, where a prefetch is harmless (it never faults) but a pointer
+// may not point.
+inline void prefetchLines(const std::uint8_t* p, std::size_t offset, std::size_t lines)
+{
+  const auto a = reinterpret_cast<std::uintptr_t>(p) + offset;
+  for (std::size_t k = 0; k < lines; ++k)
+    __builtin_prefetch(reinterpret_cast<const void*>(a + k * kLine), 1);
+}
+
 // Nothing more per point (makeLabelledCloud alone).
 struct NoSubset
 {
+  void prefetch(std::size_t, std::size_t) const {}
   template <class Copy>
   void operator()(std::size_t, const std::uint8_t*, std::uint8_t*, Copy) const
   {
@@ -177,6 +197,11 @@ struct DenseSubset
   std::size_t step;
   std::uint8_t* dst;
   std::uint8_t* end;
+  // (`ahead` kept records past dst: the lines of at most the next four records there)
+  void prefetch(std::size_t ahead, std::size_t lines) const
+  {
+    prefetchLines(dst, ahead * step, lines);
+  }
   template <class Copy>
   void operator()(std::size_t i, const std::uint8_t* src, std::uint8_t* scratch, Copy copy)
   {
@@ -216,6 +241,8 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
   const std::uint32_t height = in.height, width = in.width;
   const std::size_t point_step = in.point_step, row_step = in.row_step;
   const std::uint8_t* const data = in.data.data();
+  // Cache lines written per four points (at most, for the subset).
+  const std::size_t labelled_lines = (4 * step + kLine - 1) / kLine, subset_lines = (4 * point_step + kLine - 1) / kLine;
   std::size_t i = 0;
   for (std::uint32_t row = 0; row < height; ++row)
   {
@@ -226,6 +253,8 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
     // ones (the loop is bound by its stores). Bit patterns only move: no arithmetic on them.
     for (; col + 4 <= width; col += 4, i += 4, src += 4 * point_step)
     {
+      prefetchLines(dst, (i + kStoreAhead) * step, labelled_lines);
+      subset.prefetch(kStoreAhead, subset_lines);
       const U32x4 c = loadU32x4(curvature + i), s = loadU32x4(smoothness + i);
       const U32x4 d = loadU32x4(discontinuity + i), p = loadU32x4(primitive + i);
       const U32x4 cs01 = __builtin_shufflevector(c, s, 0, 4, 1, 5), cs23 = __builtin_shufflevector(c, s, 2, 6, 3, 7);
