@@ -3,6 +3,7 @@
 // cloud has no ring field.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "prefetch.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
 
@@ -152,6 +153,21 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
   std::size_t i = 0;
   for (; i + 8 < n; i += 8)  // (not the last point: its ring read could pass the end)
   {
+    // Eight store streams, on lines last written a frame ago (prefetch.hpp): each stream's
+    // line kWriteAhead points ahead (a 32-byte stream asks for each line twice: a test would
+    // cost as much), the one-byte states' every eighth group.
+    {
+      using detail::prefetchForWrite;
+      constexpr std::size_t A = detail::kWriteAhead;
+      prefetchForWrite(range_out, (i + A) * sizeof(double));
+      prefetchForWrite(px, (i + A) * sizeof(float));
+      prefetchForWrite(py, (i + A) * sizeof(float));
+      prefetchForWrite(pz, (i + A) * sizeof(float));
+      prefetchForWrite(paz, (i + A) * sizeof(float));
+      prefetchForWrite(ring_out, (i + A) * sizeof(std::int32_t));
+      prefetchForWrite(grid_pos, (i + A) * sizeof(std::int32_t));
+      if ((i & 63) == 0) prefetchForWrite(state, i + A);
+    }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
                  z = _mm256_i32gather_ps(base, vz, 1);

@@ -7,6 +7,7 @@
 #include "cloud_view_checks.hpp"
 #include "compress_table.hpp"
 #include "record_read.hpp"
+#include "prefetch.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -34,6 +35,16 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 {
   for (std::size_t p = 0; p < m; ++p)
   {
+    // Four store streams on lines last written a frame ago (prefetch.hpp), once a line.
+    if ((p & 7) == 0)
+    {
+      using detail::prefetchForWrite;
+      const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
+      prefetchForWrite(gx, ahead);
+      prefetchForWrite(gy, ahead);
+      prefetchForWrite(gz, ahead);
+      prefetchForWrite(gr, ahead);
+    }
     const std::uint32_t i = index[p];
     gx[p] = px[i];
     gy[p] = py[i];
