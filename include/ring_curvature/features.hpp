@@ -33,13 +33,15 @@ private:
   void computeRing(const ScanGrid& grid, const Params& params, int ring, Features& out);
   // scratch for one ring (sized to the largest ring, reused)
   std::vector<double> rho_pad_;       // the ring's ranges, padded with the seam's neighbours
-  std::vector<double> az_pad_;        // and azimuths
+  std::vector<float> rho_pad_f_;      // the same in float (chord and jump modes)
+  std::vector<float> az_pad_;         // and azimuths
   std::vector<int> runs_;             // links free to the left (first K) and right (next K) of each sample
   std::vector<int> seg_;              // the ring's segments between gaps (their first samples)
   std::vector<float> jump_;           // discontinuity of each link (k - 1, k), and the seam's again
   std::vector<double> prefix_;        // prefix sums for windowed statistics
   std::vector<int> half_;             // chord mode: samples per half chord
-  std::vector<double> turn_len_;      // turning angle, arc length, chord products per sample
+  std::vector<float> chord_;          // chord mode: chord products per sample
+  std::vector<double> turn_len_;      // other modes: turning angle and arc length per sample
 };
 
 }  // namespace ring_curvature

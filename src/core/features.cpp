@@ -20,28 +20,32 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kPiD = 3.14159265358979323846;
 
 // Selections rather than branches, so loops calling it can be vectorized (with
-// -fno-trapping-math the compiler may form both sides).
-inline double wrapPiD(double a)
+// -fno-trapping-math the compiler may form both sides). Float in chord mode (eight lanes).
+template <class T>
+inline T wrapPi(T a)
 {
-  a = a >= kPiD ? a - 2 * kPiD : a;
-  a = a < -kPiD ? a + 2 * kPiD : a;
+  const T pi = static_cast<T>(kPiD), two_pi = static_cast<T>(2 * kPiD);
+  a = a >= pi ? a - two_pi : a;
+  a = a < -pi ? a + two_pi : a;
   return a;
 }
 
 // sin / cos of the small angles between ring neighbours (|a| < 0.2 rad almost always): a
 // Taylor polynomial is exact to ~1e-12 there and far cheaper than the libm calls.
 constexpr double kSmallAngle = 0.2;
-inline void polySinCos(double a, double& s, double& c)
+template <class T>
+inline void polySinCos(T a, T& s, T& c)
 {
   // Reciprocal constants: without -ffast-math a "/ 6.0" stays a division, and these six were
   // the largest cost of the feature stage (perf); the result differs by an ulp at most.
-  const double a2 = a * a;
-  s = a * (1.0 - a2 * (1.0 / 6.0) * (1.0 - a2 * (1.0 / 20.0) * (1.0 - a2 * (1.0 / 42.0))));
-  c = 1.0 - a2 * 0.5 * (1.0 - a2 * (1.0 / 12.0) * (1.0 - a2 * (1.0 / 30.0)));
+  const T a2 = a * a;
+  s = a * (T(1) - a2 * T(1.0 / 6.0) * (T(1) - a2 * T(1.0 / 20.0) * (T(1) - a2 * T(1.0 / 42.0))));
+  c = T(1) - a2 * T(0.5) * (T(1) - a2 * T(1.0 / 12.0) * (T(1) - a2 * T(1.0 / 30.0)));
 }
-inline void smallSinCos(double a, double& s, double& c)
+template <class T>
+inline void smallSinCos(T a, T& s, T& c)
 {
-  if (std::fabs(a) > kSmallAngle)
+  if (std::fabs(a) > static_cast<T>(kSmallAngle))
   {
     s = std::sin(a);
     c = std::cos(a);
@@ -58,22 +62,28 @@ inline void smallSinCos(double a, double& s, double& c)
 // then recomputes the ring with the libm branch. A function of its own for `__restrict` (which
 // GCC honours on parameters): a gathered load might otherwise alias a store, and the loop stayed
 // scalar; with it the loop is vectorized.
+// In float, eight samples a vector (double took four, and twice the bytes per gathered range).
+// Float keeps the turning angle to ~1e-6 rad: the incoming chord's x component, rho_k -
+// rho_kp cos(a), loses ~1 ulp of the range (1e-6 m at 10 m) against a chord of >= 0.25 m, and
+// the angle already goes through fastAtan2 in float (~1e-5 rad); the products cross / dot of
+// chords of ~0.25 m keep float's relative precision (no sums of large terms here).
 template <class SinCos>
-inline bool chordKernel(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
-                        const double* __restrict rho, double* __restrict cross, double* __restrict dot,
-                        double* __restrict v2, double* __restrict u2, SinCos sinCos)
+inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
+                        const float* __restrict rho, float* __restrict cross, float* __restrict dot,
+                        float* __restrict v2, float* __restrict u2, SinCos sinCos)
 {
   int large = 0;  // an int and `|`: no short-circuit branch in the loop
+  constexpr float small = static_cast<float>(kSmallAngle);
   for (int k = 0; k < K; ++k)
   {
     const int kp = k - std::min(H[k], L[k]), kn = k + std::min(H[k], R[k]);
-    const double ap = c * wrapPiD(az[kp] - az[k]), an = c * wrapPiD(az[kn] - az[k]);
-    large |= (std::fabs(ap) > kSmallAngle ? 1 : 0) | (std::fabs(an) > kSmallAngle ? 1 : 0);
-    double sp, cp, sn, cn;
+    const float ap = c * wrapPi(az[kp] - az[k]), an = c * wrapPi(az[kn] - az[k]);
+    large |= (std::fabs(ap) > small ? 1 : 0) | (std::fabs(an) > small ? 1 : 0);
+    float sp, cp, sn, cn;
     sinCos(ap, sp, cp);
     sinCos(an, sn, cn);
-    const double vx = rho[k] - rho[kp] * cp, vy = -(rho[kp] * sp);  // incoming chord
-    const double ux = rho[kn] * cn - rho[k], uy = rho[kn] * sn;     // outgoing chord
+    const float vx = rho[k] - rho[kp] * cp, vy = -(rho[kp] * sp);  // incoming chord
+    const float ux = rho[kn] * cn - rho[k], uy = rho[kn] * sn;     // outgoing chord
     cross[k] = vx * uy - vy * ux;
     dot[k] = vx * ux + vy * uy;
     v2[k] = vx * vx + vy * vy;
@@ -81,33 +91,34 @@ inline bool chordKernel(int K, double c, const int* H, const int* L, const int* 
   }
   return large != 0;
 }
-RC_SIMD_CLONES bool chordProducts(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
-                                  const double* __restrict rho, double* __restrict cross, double* __restrict dot,
-                                  double* __restrict v2, double* __restrict u2)
+RC_SIMD_CLONES bool chordProducts(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
+                                  const float* __restrict rho, float* __restrict cross, float* __restrict dot,
+                                  float* __restrict v2, float* __restrict u2)
 {
-  return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos);
+  return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos<float>);
 }
 // The same with the libm branch, for a ring where chordProducts met a large angle.
-void chordProductsLibm(int K, double c, const int* H, const int* L, const int* R, const double* __restrict az,
-                       const double* __restrict rho, double* __restrict cross, double* __restrict dot,
-                       double* __restrict v2, double* __restrict u2)
+void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
+                       const float* __restrict rho, float* __restrict cross, float* __restrict dot,
+                       float* __restrict v2, float* __restrict u2)
 {
-  chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, smallSinCos);
+  chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, smallSinCos<float>);
 }
 
 // Chord mode: samples per half chord, for a chord of `chord` metres at each range (sample
 // spacing ~ rho cos(phi) dtheta), between 1 and max_h. The ceil is by
 // truncation (exact: the quotient lies in (0, 2.5e5]), which vectorizes, where SSE2 has no
-// rounding instruction and std::ceil stayed a call per sample.
-RC_SIMD_CLONES void chordSamples(int K, const double* __restrict rho, double cos_phi, double dtheta, float chord,
+// rounding instruction and std::ceil stayed a call per sample. In float with the chords
+// (eight lanes; the quotient is below 2^24, so the truncation stays exact).
+RC_SIMD_CLONES void chordSamples(int K, const float* __restrict rho, float cos_phi, float dtheta, float chord,
                                  int max_h, int* __restrict H)
 {
   for (int k = 0; k < K; ++k)
   {
-    const double spacing = rho[k] * cos_phi * dtheta;
-    const double q = chord / (spacing > 1e-6 ? spacing : 1e-6);  // NaN-safe
+    const float spacing = rho[k] * cos_phi * dtheta;
+    const float q = chord / (spacing > 1e-6f ? spacing : 1e-6f);  // NaN-safe
     const int t = static_cast<int>(q);
-    H[k] = std::clamp(t + (static_cast<double>(t) < q ? 1 : 0), 1, max_h);
+    H[k] = std::clamp(t + (static_cast<float>(t) < q ? 1 : 0), 1, max_h);
   }
 }
 
@@ -116,17 +127,19 @@ RC_SIMD_CLONES void chordSamples(int K, const double* __restrict rho, double cos
 // range; NaN where k has no link back (L[k] = 0). Branch-free: both predictions are formed and
 // the run lengths choose, and every link's quotient is formed, then kept or not, so that the
 // loop vectorizes (its divisions were 7 % of the feature stage one at a time).
-RC_SIMD_CLONES void linkJumps(int K, const int* __restrict L, const int* __restrict R, const double* __restrict rp,
+// In float (eight lanes): a prediction error of ~1 ulp of the range (1e-6 m at 10 m) is 1e-7
+// of the range, far below the smallest jump called one (jump_min_ratio, 0.03).
+RC_SIMD_CLONES void linkJumps(int K, const int* __restrict L, const int* __restrict R, const float* __restrict rp,
                               float* __restrict jump)
 {
   constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
   for (int k = 0; k < K; ++k)
   {
-    const double r1 = rp[k], r0 = rp[k - 1], rm = rp[k - 2], r2 = rp[k + 1];
-    const double e_flat = std::fabs(r1 - r0);
-    const double e_left = L[k] >= 2 ? std::fabs(r1 - (2.0 * r0 - rm)) : e_flat;
-    const double e_right = R[k] >= 1 ? std::fabs(r0 - (2.0 * r1 - r2)) : e_flat;
-    const float j = static_cast<float>(std::min(e_left, e_right) / std::min(r0, r1));
+    const float r1 = rp[k], r0 = rp[k - 1], rm = rp[k - 2], r2 = rp[k + 1];
+    const float e_flat = std::fabs(r1 - r0);
+    const float e_left = L[k] >= 2 ? std::fabs(r1 - (2.0f * r0 - rm)) : e_flat;
+    const float e_right = R[k] >= 1 ? std::fabs(r0 - (2.0f * r1 - r2)) : e_flat;
+    const float j = std::min(e_left, e_right) / std::min(r0, r1);
     jump[k] = L[k] >= 1 ? j : kNaNf;
   }
 }
@@ -159,7 +172,9 @@ inline void segmentRuns(int p, int q, int K, int cap, int* __restrict L, int* __
 
 // Turning angle and curvature of a sample, NaN where undefined. Straight-line (the quotient
 // is formed everywhere and then chosen; callers pass `&` rather than `&&`): loops vectorize.
-inline void storeCurvature(double turn, double len, bool defined, float& turning, float& curvature)
+// T is float in chord mode, double in the others.
+template <class T>
+inline void storeCurvature(T turn, T len, bool defined, float& turning, float& curvature)
 {
   const float kappa = static_cast<float>(turn / len);
   turning = defined ? static_cast<float>(turn) : kNaN;
@@ -269,7 +284,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   growTo(rho_pad_, K + 2 * static_cast<std::size_t>(cap));
   growTo(az_pad_, K + 2 * static_cast<std::size_t>(cap));
   double* const rp = rho_pad_.data() + cap;
-  double* const azp = az_pad_.data() + cap;  // double: one type in the loop below (float widens exactly)
+  float* const azp = az_pad_.data() + cap;
   std::copy(rho, rho + K, rp);
   std::copy(g.azimuth.begin() + b, g.azimuth.begin() + b + K, azp);
   const auto padFrom = [&](std::int64_t k) {
@@ -283,11 +298,23 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     rp[hi] = g.range[padFrom(hi)];
     azp[hi] = g.azimuth[padFrom(hi)];
   }
+  // The default modes' curvature and discontinuity (Chord, Jump) run in float, eight samples a
+  // vector, on a float copy of the padded ranges; the smoothness keeps the double ranges (its
+  // prefix sums of squared ranges need them), and so do the other modes.
+  const bool chord_mode = P.curvature_mode == CurvatureMode::Chord;
+  const bool jump_mode = P.discontinuity_mode == DiscontinuityMode::Jump;
+  float* rpf = nullptr;
+  if (chord_mode || jump_mode)
+  {
+    growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap));
+    rpf = rho_pad_f_.data() + cap;
+    for (std::int64_t j = -cap; j < static_cast<std::int64_t>(K) + cap; ++j) rpf[j] = static_cast<float>(rp[j]);
+  }
 
   // Local development of a neighbour j around vertex k: coordinates of w_j with w_k = (rho_k, 0).
-  const bool exact = P.curvature_mode != CurvatureMode::Chord;
+  const bool exact = !chord_mode;
   auto relAngle = [&](std::uint32_t pk, std::uint32_t pj) -> double {
-    if (!exact) return wrapPiD(static_cast<double>(g.azimuth[pj]) - g.azimuth[pk]);
+    if (!exact) return wrapPi(static_cast<double>(g.azimuth[pj]) - g.azimuth[pk]);
     const double xk = g.x[pk], yk = g.y[pk], xj = g.x[pj], yj = g.y[pj];
     return std::atan2(xk * yj - yk * xj, xk * xj + yk * yj);
   };
@@ -302,41 +329,38 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // chords, the turning angle and arc length, kappa = turn / len) rather than one long chain of
   // dependent divisions and square roots per sample: the CPU overlaps their divisions, and in
   // chord mode each loop vectorizes.
-  const float chord = P.chord_length;
-  const double res = std::max(1e-6f, g.azimuth_resolution);
-  growTo(half_, K);
-  growTo(turn_len_, 6 * static_cast<std::size_t>(K));
-  int* H = half_.data();
-  double* TURN = turn_len_.data();
-  double* LEN = TURN + K;
-  double* CROSS = LEN + K;  // chord mode: the chords' cross and dot products, squared lengths
-  double* DOT = CROSS + K;
-  double* V2 = DOT + K;
-  double* U2 = V2 + K;
-  if (P.curvature_mode == CurvatureMode::Chord)
-  {
-    chordSamples(static_cast<int>(K), rho, cone_cos, res, chord, P.max_chord_samples, H);
-  }
   float* const turning = out.turning.data() + b;
   float* const curvature = out.curvature.data() + b;
-  if (!exact)
+  if (chord_mode)
   {
-    // Chord mode (see chordProducts). If an angle exceeded the polynomial's range, the ring is
-    // recomputed with the libm branch (rare; only odd data).
-    if (chordProducts(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2))
-      chordProductsLibm(static_cast<int>(K), c, H, L, Rr, azp, rp, CROSS, DOT, V2, U2);
+    // Chord mode (see chordProducts), in float. If an angle exceeded the polynomial's range, the
+    // ring is recomputed with the libm branch (rare; only odd data).
+    const float res = std::max(1e-6f, g.azimuth_resolution);
+    const float cf = g.ring_cos[static_cast<std::size_t>(n)];
+    growTo(half_, K);
+    growTo(chord_, 4 * static_cast<std::size_t>(K));
+    int* H = half_.data();
+    float* CROSS = chord_.data();  // the chords' cross and dot products, squared lengths
+    float* DOT = CROSS + K;
+    float* V2 = DOT + K;
+    float* U2 = V2 + K;
+    chordSamples(static_cast<int>(K), rpf, cf, res, P.chord_length, P.max_chord_samples, H);
+    if (chordProducts(static_cast<int>(K), cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2))
+      chordProductsLibm(static_cast<int>(K), cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
     // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
     // The turning angle and arc length go straight into kappa (one loop, not two through arrays).
     for (std::uint32_t k = 0; k < K; ++k)
     {
-      const double turn =
-          std::fabs(static_cast<double>(fastAtan2(static_cast<float>(CROSS[k]), static_cast<float>(DOT[k]))));
-      const double len = 0.5 * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
+      const float turn = std::fabs(fastAtan2(CROSS[k], DOT[k]));
+      const float len = 0.5f * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
       storeCurvature(turn, len, (L[k] != 0) & (Rr[k] != 0), turning[k], curvature[k]);
     }
   }
   else
   {
+    growTo(turn_len_, 2 * static_cast<std::size_t>(K));
+    double* TURN = turn_len_.data();
+    double* LEN = TURN + K;
     for (std::uint32_t k = 0; k < K; ++k)
     {
       if (L[k] == 0 || Rr[k] == 0) continue;  // turning angle needs a neighbour on each side
@@ -361,7 +385,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   }
 
   // Discontinuity.
-  if (P.discontinuity_mode == DiscontinuityMode::Paper)
+  if (!jump_mode)
   {
     for (std::uint32_t k = 0; k < K; ++k)
     {
@@ -388,7 +412,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     // that largerLink reads both links of every sample without a wrap.
     auto& jump = jump_;
     growTo(jump, K + 1);
-    linkJumps(static_cast<int>(K), L, Rr, rp, jump.data());
+    linkJumps(static_cast<int>(K), L, Rr, rpf, jump.data());
     jump[K] = jump[0];
     largerLink(static_cast<int>(K), Rr, jump.data(), out.discontinuity.data() + b);
   }

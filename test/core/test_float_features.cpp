@@ -1,0 +1,123 @@
+// The default modes' curvature and discontinuity (Chord, Jump) are computed in float (eight
+// lanes): they must stay within float's reach of the same formulas in double, written here
+// independently of the code under test, from 0.5 m to 200 m and across a closed ring's seam.
+// Float's reach is measured in units of the range's rounding: eps = 2^-24 of the range, over the
+// chord's length for the turning angle and arc length (the same order as the float32 input's own
+// quantization of the coordinates), over the range for the jump.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "../support/synthetic_cloud.hpp"
+#include "ring_curvature/pipeline.hpp"
+
+using namespace ring_curvature;
+using namespace ring_curvature::test;
+
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+
+double wrap(double a) { return a >= kPi ? a - 2 * kPi : (a < -kPi ? a + 2 * kPi : a); }
+
+// Closed rings (no gaps) of 1800 samples, 0.2 deg apart, around an irregular room of mean
+// range `r0`: a wavy wall with a depth step and a few centimetres of deterministic roughness;
+// ring 1 lies on a cone (elevation about -15 deg) so that the development factor is not 1.
+SyntheticCloud roomRings(double r0)
+{
+  SyntheticCloud cloud;  // float32, the drivers' type
+  const int n = 1800;
+  for (int ring = 0; ring < 2; ++ring)
+    for (int j = 0; j < n; ++j)
+    {
+      const double th = -kPi + 2 * kPi * (j + 0.25) / n;
+      double rho = r0 * (1.0 + 0.3 * std::sin(3 * th) + (j % 400 < 200 ? 0.0 : 0.08));
+      rho += 0.004 * r0 * std::sin(j * 2.3) * std::cos(j * 0.7);
+      const double z = ring == 0 ? 0.0 : -0.27 * rho;
+      cloud.add(rho * std::cos(th), rho * std::sin(th), z, ring);
+    }
+  return cloud;
+}
+
+constexpr double kEps = 1.0 / (1 << 24);
+
+// Largest deviations, in units of the range's float rounding (see above).
+struct Deviation
+{
+  double turning = 0, length = 0, jump = 0;
+  int compared = 0;
+};
+
+// The chord-mode turning angle, arc length and jump link of every sample in double, from the
+// grid's double ranges and float azimuths, compared with the pipeline's float features.
+Deviation compareWithDouble(const Pipeline& pipe, const Params& P)
+{
+  const ScanGrid& g = pipe.grid();
+  const Features& f = pipe.features();
+  Deviation dev;
+  const double res = g.azimuth_resolution;
+  for (int n = 0; n < g.num_rings; ++n)
+  {
+    const int b = static_cast<int>(g.ring_begin[n]), K = static_cast<int>(g.ringSize(n));
+    const double c = g.ring_cos[n];
+    const auto at = [&](int k) { return b + ((k % K) + K) % K; };
+    for (int k = 0; k < K; ++k)
+    {
+      const int p = at(k);
+      const double rho = g.range[p];
+      const double q = P.chord_length / (rho * c * res);
+      // a quotient within rounding of an integer may take the next sample count in float
+      if (std::fabs(q - std::round(q)) < 1e-4) continue;
+      const int h = std::clamp(static_cast<int>(std::ceil(q)), 1, P.max_chord_samples);
+      const int pp = at(k - h), pn = at(k + h);
+      const double ap = c * wrap(static_cast<double>(g.azimuth[pp]) - g.azimuth[p]);
+      const double an = c * wrap(static_cast<double>(g.azimuth[pn]) - g.azimuth[p]);
+      const double vx = rho - g.range[pp] * std::cos(ap), vy = -g.range[pp] * std::sin(ap);
+      const double ux = g.range[pn] * std::cos(an) - rho, uy = g.range[pn] * std::sin(an);
+      // fastAtan2 as in the code (~1e-5 rad off atan2), on the double products: the comparison
+      // then sees the float chords' error alone
+      const double turn =
+          std::fabs(fastAtan2(static_cast<float>(vx * uy - vy * ux), static_cast<float>(vx * ux + vy * uy)));
+      const double len = 0.5 * (std::hypot(vx, vy) + std::hypot(ux, uy));
+      // the jump of link (k - 1, k), the smaller of both sides' linear predictions
+      const double r0 = g.range[at(k - 1)], rm = g.range[at(k - 2)], r2 = g.range[at(k + 1)];
+      const double jump = std::min(std::fabs(rho - (2 * r0 - rm)), std::fabs(r0 - (2 * rho - r2))) / std::min(r0, rho);
+      const double jump_next = [&] {
+        const double s1 = g.range[at(k + 1)], s2 = g.range[at(k + 2)], sm = g.range[at(k - 1)];
+        return std::min(std::fabs(s1 - (2 * rho - sm)), std::fabs(rho - (2 * s1 - s2))) / std::min(rho, s1);
+      }();
+      const double unit = kEps * rho / std::min({std::hypot(vx, vy), std::hypot(ux, uy), len});
+      dev.turning = std::max(dev.turning, std::fabs(f.turning[p] - turn) / unit);
+      dev.length = std::max(dev.length, std::fabs(f.turning[p] / f.curvature[p] / len - 1.0) / unit);
+      dev.jump = std::max(dev.jump, std::fabs(f.discontinuity[p] - std::max(jump, jump_next)) / kEps);
+      ++dev.compared;
+    }
+  }
+  return dev;
+}
+}  // namespace
+
+TEST(FloatFeatures, ChordAndJumpMatchDoubleFormulas)
+{
+  for (const double r0 : {0.5, 3.0, 20.0, 80.0, 200.0})
+  {
+    const SyntheticCloud cloud = roomRings(r0);
+    Params params;  // defaults: Chord, Detrended, Jump
+    params.max_range = 300.0f;
+    Pipeline pipe(params);
+    FrameResult res;
+    ASSERT_TRUE(pipe.process(cloud.view(), res).ok);
+    ASSERT_EQ(pipe.grid().num_rings, 2);
+    ASSERT_TRUE(pipe.grid().ring_closed[0] && pipe.grid().ring_closed[1]);
+    const Deviation d = compareWithDouble(pipe, params);
+    std::printf("r0 %6.1f m: %d samples, largest deviations in eps units: turning %.2f, arc length %.2f, jump %.2f\n",
+                r0, d.compared, d.turning, d.length, d.jump);
+    EXPECT_GT(d.compared, 3000) << "r0 " << r0;
+    EXPECT_LT(d.turning, 8.0) << "r0 " << r0;
+    EXPECT_LT(d.length, 8.0) << "r0 " << r0;
+    EXPECT_LT(d.jump, 8.0) << "r0 " << r0;
+  }
+}
