@@ -298,18 +298,14 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
     rp[hi] = g.range[padFrom(hi)];
     azp[hi] = g.azimuth[padFrom(hi)];
   }
-  // The default modes' curvature and discontinuity (Chord, Jump) run in float, eight samples a
-  // vector, on a float copy of the padded ranges; the smoothness keeps the double ranges (its
-  // prefix sums of squared ranges need them), and so do the other modes.
+  // The default modes' features (Chord, Jump, Detrended with small windows) run in float, eight
+  // samples a vector, on a float copy of the padded ranges; the other modes keep the double
+  // ranges, and so do the smoothness's prefix sums (squared ranges summed over a ring).
   const bool chord_mode = P.curvature_mode == CurvatureMode::Chord;
   const bool jump_mode = P.discontinuity_mode == DiscontinuityMode::Jump;
-  float* rpf = nullptr;
-  if (chord_mode || jump_mode)
-  {
-    growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap));
-    rpf = rho_pad_f_.data() + cap;
-    for (std::int64_t j = -cap; j < static_cast<std::int64_t>(K) + cap; ++j) rpf[j] = static_cast<float>(rp[j]);
-  }
+  growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap));
+  float* const rpf = rho_pad_f_.data() + cap;
+  for (std::int64_t j = -cap; j < static_cast<std::int64_t>(K) + cap; ++j) rpf[j] = static_cast<float>(rp[j]);
 
   // Local development of a neighbour j around vertex k: coordinates of w_j with w_k = (rho_k, 0).
   const bool exact = !chord_mode;
@@ -420,7 +416,7 @@ RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params
   // Smoothness over a window of +-w samples (smoothness.cpp).
   growTo(prefix_, smoothnessScratch(static_cast<int>(K), P.smoothness_window, closed));
   ringSmoothness(static_cast<int>(K), P.smoothness_window, closed, P.smoothness_mode == SmoothnessMode::Detrended, rp,
-                 L, Rr, seg, num_seg, prefix_.data(), out.smoothness.data() + b);
+                 rpf, L, Rr, seg, num_seg, prefix_.data(), out.smoothness.data() + b);
 }
 
 }  // namespace ring_curvature

@@ -136,6 +136,101 @@ RC_SIMD_CLONES void fullWindowSmoothnessCentred(int K, int w, int ext, bool detr
   for (int k = k1; k < K; ++k) out[k] = fullWindowSample<true>(k, w, ext, detrend, false, E, S0, S1, S2, ic, it, 0, 0);
 }
 
+// Detrended smoothness of every sample from its own window in float, for the small windows
+// (w <= kMaxDirect): no prefix sums. The sums are of the ranges relative to the window's centre
+// sample, d_j = rho_{k+j} - rho_k, not of the ranges themselves: the variance's cancellation
+// (mean square less squared mean, less the trend) then works on values of the size of the range
+// differences within the window, not of the range (squared ranges summed over a ring lose
+// everything in float). Float's error is then ~1e-7 of the window's spread of ranges, about what
+// the float32 input's coordinates carry anyway. A window costs O(w) a sample, which for w <= 4
+// is less than the prefix sums' serial chain and two double windows, and it runs eight lanes
+// wide (KITTI: features -13 %).
+constexpr int kMaxDirect = 4;
+
+// Residual variance of a window of n samples from the sums of d, (j - jbar) d and d^2.
+[[gnu::always_inline]] inline float residualVariance(float s0, float s1, float s2, float ic, float it)
+{
+  const float mean = s0 * ic;
+  return std::max(0.0f, s2 * ic - mean * mean - s1 * s1 * it);
+}
+
+template <int W>
+[[gnu::always_inline]] inline void directWindows(int K, const float* __restrict rp, float* __restrict out)
+{
+  // 1 / n and 1 / (n sum (j - jbar)^2) for the centred window (2W + 1) and the sided ones (W + 1)
+  const float ic = 1.0f / (2 * W + 1), ics = 1.0f / (W + 1);
+  const float it = static_cast<float>(invTrend(2.0 * W + 1.0)), its = static_cast<float>(invTrend(W + 1.0));
+  constexpr float half = 0.5f * W;
+  for (int k = 0; k < K; ++k)
+  {
+    float l0 = 0, l1 = 0, l2 = 0, r0 = 0, r1 = 0, r2 = 0;
+    for (int j = 1; j <= W; ++j)
+    {
+      const float dl = rp[k - j] - rp[k], dr = rp[k + j] - rp[k];
+      l0 += dl;
+      r0 += dr;
+      l1 += static_cast<float>(j) * dl;  // sum j d over the left side (indices -j)
+      r1 += static_cast<float>(j) * dr;
+      l2 += dl * dl;
+      r2 += dr * dr;
+    }
+    // centred window: index -j on the left, +j on the right, mean index 0
+    float v = residualVariance(l0 + r0, r1 - l1, l2 + r2, ic, it);
+    // sided windows (the centre sample's d is 0): indices -W..0 and 0..W, mean -+W/2
+    v = std::min(v, residualVariance(l0, half * l0 - l1, l2, ics, its));
+    v = std::min(v, residualVariance(r0, r1 - half * r0, r2, ics, its));
+    out[k] = v;
+  }
+}
+
+RC_SIMD_CLONES void directSmoothness(int K, int w, const float* __restrict rp, float* __restrict out)
+{
+  switch (w)
+  {
+    case 2: directWindows<2>(K, rp, out); break;
+    case 3: directWindows<3>(K, rp, out); break;
+    default: directWindows<4>(K, rp, out); break;
+  }
+}
+
+// The samples near a gap (L[k] < w or R[k] < w; w < cap), with their shorter windows: in each
+// segment [p, q) the first w samples and the last w. windowVar(lo, hi) is the detrended (or
+// plain) variance of extended indices [lo, hi).
+template <class WindowVar>
+[[gnu::always_inline]] inline void nearGapSmoothness(int K, int w, int ext, const int* seg, int num_seg, const int* L,
+                                                     const int* R, float* out, const WindowVar& windowVar, bool detrend)
+{
+  const auto nearGap = [&](std::uint32_t k) {
+    const int a = std::min(w, L[k]), z = std::min(w, R[k]);  // reach of the window, left / right
+    const std::size_t c0 = k + static_cast<std::size_t>(ext);
+    const std::size_t lo = c0 - static_cast<std::size_t>(a);
+    const std::size_t hi = c0 + static_cast<std::size_t>(z) + 1;  // exclusive
+    if (hi - lo < 2)
+    {
+      out[k] = hi - lo == 1 ? 0.0f : kNaN;
+      return;
+    }
+    double var = windowVar(lo, hi);
+    if (detrend)
+    {
+      // Edge-preserving: a sample beside a crease has one side that lies on a single face; the
+      // best of the centred and the two one-sided windows is low there, and high only where
+      // every window is rough (vegetation, clutter).
+      if (c0 + 1 - lo >= 3) var = std::min(var, windowVar(lo, c0 + 1));
+      if (hi - c0 >= 3) var = std::min(var, windowVar(c0, hi));
+    }
+    out[k] = static_cast<float>(var);
+  };
+  for (int i = 0; i + 1 < num_seg; ++i)
+  {
+    const int p = seg[i], q = seg[i + 1];
+    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
+    for (int k = a1; k < a2; ++k) nearGap(static_cast<std::uint32_t>(k));
+    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
+    for (int k = b1; k < b2; ++k) nearGap(static_cast<std::uint32_t>(k));
+  }
+}
+
 inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, const double* S0, const double* S1,
                                  const double* S2, float* out)
 {
@@ -146,12 +241,49 @@ inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, con
 }
 }  // namespace
 
-RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const int* L,
-                                   const int* R, const int* seg, int num_seg, double* prefix, float* out)
+RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const float* rpf,
+                                   const int* L, const int* R, const int* seg, int num_seg, double* prefix, float* out)
 {
+  const int ext = closed ? w : 0;
+  // Windows hold at most 2w + 1 samples: 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) per window
+  // size come from a small table, so the three windows of a point cost no division (divisions
+  // dominated this loop). Larger windows than the table holds compute them directly.
+  constexpr std::size_t kTable = 64;
+  double inv_cnt_table[kTable], inv_trend_table[kTable];
+  inv_cnt_table[0] = inv_trend_table[0] = 0.0;  // never used: windows hold >= 2 samples
+  // Only the sizes a window can have (at most 2w + 1): these divisions ran for every ring.
+  const std::size_t table_end = std::min(kTable, static_cast<std::size_t>(std::max(w, 0)) * 2 + 2);
+  for (std::size_t t = 1; t < table_end; ++t)
+  {
+    const double cnt = static_cast<double>(t);
+    inv_cnt_table[t] = 1.0 / cnt;
+    inv_trend_table[t] = t >= 3 ? 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt) : 0.0;
+  }
+  if (detrend && w >= 2 && w <= kMaxDirect)
+  {
+    // The default mode's small windows: each from its own samples (directSmoothness), those of
+    // the samples near a gap in double, relative to the window's first sample (same reason).
+    directSmoothness(K, w, rpf, out);
+    const double* const rs = rp - ext;
+    // (Windows of at most 2 kMaxDirect + 1 samples: the tables above hold their factors.)
+    nearGapSmoothness(K, w, ext, seg, num_seg, L, R, out, [&](std::size_t lo, std::size_t hi) {
+      const double ref = rs[lo], jbar = 0.5 * static_cast<double>(hi - lo - 1);
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (std::size_t j = lo; j < hi; ++j)
+      {
+        const double d = rs[j] - ref;
+        s0 += d;
+        s1 += (static_cast<double>(j - lo) - jbar) * d;
+        s2 += d * d;
+      }
+      const double mean = s0 * inv_cnt_table[hi - lo];
+      const double var = s2 * inv_cnt_table[hi - lo] - mean * mean - s1 * s1 * inv_trend_table[hi - lo];
+      return std::max(0.0, var);
+    }, true);
+    return;
+  }
   // Prefix sums over the ring, extended by w on each side for closed rings so that windows wrap
   // across the seam.
-  const int ext = closed ? w : 0;
   const std::size_t E = static_cast<std::size_t>(K) + 2 * static_cast<std::size_t>(ext);
   // every entry of `prefix` but the three leading zeros is written below
   double* S0 = prefix;                  // sum rho
@@ -196,20 +328,6 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
   }
   // Residual variance of rho over extended indices [lo, hi): plain (Eq 10) or after removing
   // the least-squares line through the window.
-  // Windows hold at most 2w + 1 samples: 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) per window
-  // size come from a small table, so the three windows of a point cost no division (divisions
-  // dominated this loop). Larger windows than the table holds compute them directly.
-  constexpr std::size_t kTable = 64;
-  double inv_cnt_table[kTable], inv_trend_table[kTable];
-  inv_cnt_table[0] = inv_trend_table[0] = 0.0;  // never used: windows hold >= 2 samples
-  // Only the sizes a window can have (at most 2w + 1): these divisions ran for every ring.
-  const std::size_t table_end = std::min(kTable, static_cast<std::size_t>(std::max(w, 0)) * 2 + 2);
-  for (std::size_t t = 1; t < table_end; ++t)
-  {
-    const double cnt = static_cast<double>(t);
-    inv_cnt_table[t] = 1.0 / cnt;
-    inv_trend_table[t] = t >= 3 ? 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt) : 0.0;
-  }
   auto windowVar = [&](std::size_t lo, std::size_t hi) -> double {
     const std::size_t n_win = hi - lo;
     const double cnt = static_cast<double>(n_win);
@@ -234,37 +352,7 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
   // then redoes the rest, the samples near a gap, with their shorter windows. Same operations
   // on the same values either way (the tables hold exactly 1.0 / cnt and the trend factor).
   fullWindowSmoothness(K, w, ext, detrend, static_cast<int>(E), S0, S1, S2, out);
-  // The rest, the samples near a gap (L[k] < w or R[k] < w; w < cap), with their shorter
-  // windows: in each segment [p, q) the first w samples and the last w.
-  const auto nearGap = [&](std::uint32_t k) {
-    const int a = std::min(w, L[k]), z = std::min(w, R[k]);  // reach of the window, left / right
-    const std::size_t c0 = k + static_cast<std::size_t>(ext);
-    const std::size_t lo = c0 - static_cast<std::size_t>(a);
-    const std::size_t hi = c0 + static_cast<std::size_t>(z) + 1;  // exclusive
-    if (hi - lo < 2)
-    {
-      out[k] = hi - lo == 1 ? 0.0f : kNaN;
-      return;
-    }
-    double var = windowVar(lo, hi);
-    if (detrend)
-    {
-      // Edge-preserving: a sample beside a crease has one side that lies on a single face; the
-      // best of the centred and the two one-sided windows is low there, and high only where
-      // every window is rough (vegetation, clutter).
-      if (c0 + 1 - lo >= 3) var = std::min(var, windowVar(lo, c0 + 1));
-      if (hi - c0 >= 3) var = std::min(var, windowVar(c0, hi));
-    }
-    out[k] = static_cast<float>(var);
-  };
-  for (int i = 0; i + 1 < num_seg; ++i)
-  {
-    const int p = seg[i], q = seg[i + 1];
-    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
-    for (int k = a1; k < a2; ++k) nearGap(static_cast<std::uint32_t>(k));
-    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
-    for (int k = b1; k < b2; ++k) nearGap(static_cast<std::uint32_t>(k));
-  }
+  nearGapSmoothness(K, w, ext, seg, num_seg, L, R, out, windowVar, detrend);
 }
 
 }  // namespace ring_curvature

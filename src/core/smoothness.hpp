@@ -15,10 +15,11 @@ inline std::size_t smoothnessScratch(int K, int w, bool closed)
 
 /// Smoothness of the K samples of one ring (window of +-w samples, w >= 1) into out[0, K): `rp`
 /// holds the ring's ranges padded with w samples on each side (the neighbours across the seam of
-/// a closed ring), L and R the links free to the left and right of each sample (capped above w),
+/// a closed ring), `rpf` the same in float (Detrended with w <= 4 forms its full windows from
+/// them), L and R the links free to the left and right of each sample (capped above w),
 /// seg[0, num_seg) the segments between gaps (see computeRing), and `prefix` room for
 /// smoothnessScratch(K, w, closed) values.
-void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const int* L, const int* R,
-                    const int* seg, int num_seg, double* prefix, float* out);
+void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const float* rpf, const int* L,
+                    const int* R, const int* seg, int num_seg, double* prefix, float* out);
 
 }  // namespace ring_curvature

@@ -23,16 +23,18 @@ constexpr double kPi = 3.14159265358979323846;
 
 double wrap(double a) { return a >= kPi ? a - 2 * kPi : (a < -kPi ? a + 2 * kPi : a); }
 
-// Closed rings (no gaps) of 1800 samples, 0.2 deg apart, around an irregular room of mean
-// range `r0`: a wavy wall with a depth step and a few centimetres of deterministic roughness;
-// ring 1 lies on a cone (elevation about -15 deg) so that the development factor is not 1.
-SyntheticCloud roomRings(double r0)
+// Closed rings of 1800 samples, 0.2 deg apart, around an irregular room of mean range `r0`: a
+// wavy wall with a depth step and a few centimetres of deterministic roughness; ring 1 lies on a
+// cone (elevation about -15 deg) so that the development factor is not 1. With `gaps`, holes of
+// 1 to 6 missing samples (those of 3 or more break the ring's curve).
+SyntheticCloud roomRings(double r0, bool gaps = false)
 {
   SyntheticCloud cloud;  // float32, the drivers' type
   const int n = 1800;
   for (int ring = 0; ring < 2; ++ring)
     for (int j = 0; j < n; ++j)
     {
+      if (gaps && j % 150 < (j / 150) % 7) continue;
       const double th = -kPi + 2 * kPi * (j + 0.25) / n;
       double rho = r0 * (1.0 + 0.3 * std::sin(3 * th) + (j % 400 < 200 ? 0.0 : 0.08));
       rho += 0.004 * r0 * std::sin(j * 2.3) * std::cos(j * 0.7);
@@ -98,7 +100,75 @@ Deviation compareWithDouble(const Pipeline& pipe, const Params& P)
   }
   return dev;
 }
+
+// Detrended residual variance of ranges [a, b] of a ring (wrapped), two-pass in double.
+double detrendedVariance(const ScanGrid& g, int b0, int K, int a, int b)
+{
+  const int n = b - a + 1;
+  const auto r = [&](int k) { return g.range[b0 + ((k % K) + K) % K]; };
+  double mean = 0, jbar = 0.5 * (a + b);
+  for (int k = a; k <= b; ++k) mean += r(k) / n;
+  double sjj = 0, sjr = 0;
+  for (int k = a; k <= b; ++k)
+  {
+    sjj += (k - jbar) * (k - jbar);
+    sjr += (k - jbar) * (r(k) - mean);
+  }
+  const double slope = n >= 3 ? sjr / sjj : 0.0;
+  double ss = 0;
+  for (int k = a; k <= b; ++k)
+  {
+    const double e = r(k) - mean - slope * (k - jbar);
+    ss += e * e;
+  }
+  return ss / n;
+}
 }  // namespace
+
+// The default smoothness (Detrended, window 3) is formed in float from ranges relative to each
+// window's centre sample, never from sums of squared ranges: against a two-pass double reference
+// it must stay within a few float roundings of the window's range differences m and of the range
+// itself, eps (m^2 + m rho). Sums of the ranges themselves in float would be off by ~eps rho^2.
+TEST(FloatFeatures, DetrendedSmoothnessMatchesDouble)
+{
+  for (const double r0 : {0.5, 3.0, 20.0, 80.0, 200.0})
+  {
+    const SyntheticCloud cloud = roomRings(r0, true);
+    Params params;
+    params.max_range = 300.0f;
+    Pipeline pipe(params);
+    FrameResult res;
+    ASSERT_TRUE(pipe.process(cloud.view(), res).ok);
+    const ScanGrid& g = pipe.grid();
+    const int w = params.smoothness_window;
+    double worst = 0;
+    int near_gap = 0;
+    for (int ring = 0; ring < g.num_rings; ++ring)
+    {
+      const int b0 = static_cast<int>(g.ring_begin[ring]), K = static_cast<int>(g.ringSize(ring));
+      ASSERT_TRUE(g.ring_closed[ring]);
+      const auto linked = [&](int k) { return g.linked[b0 + ((k % K) + K) % K] != 0; };
+      for (int k = 0; k < K; ++k)
+      {
+        int a = 0, z = 0;  // the window's reach, left and right, up to w and not across a gap
+        while (a < w && linked(k - a)) ++a;
+        while (z < w && linked(k + z + 1)) ++z;
+        near_gap += a < w || z < w;
+        if (a + z == 0) continue;
+        double want = detrendedVariance(g, b0, K, k - a, k + z);
+        if (a >= 2) want = std::min(want, detrendedVariance(g, b0, K, k - a, k));
+        if (z >= 2) want = std::min(want, detrendedVariance(g, b0, K, k, k + z));
+        double m = 0;
+        for (int j = -a; j <= z; ++j) m = std::max(m, std::fabs(g.range[b0 + ((k + j) % K + K) % K] - g.range[b0 + k]));
+        const double unit = kEps * (m * m + m * g.range[b0 + k]) + 1e-30;
+        worst = std::max(worst, std::fabs(pipe.features().smoothness[b0 + k] - want) / unit);
+      }
+    }
+    std::printf("r0 %6.1f m: %d samples near a gap; largest smoothness deviation %.2f eps units\n", r0, near_gap, worst);
+    EXPECT_GT(near_gap, 50) << "r0 " << r0;
+    EXPECT_LT(worst, 8.0) << "r0 " << r0;
+  }
+}
 
 TEST(FloatFeatures, ChordAndJumpMatchDoubleFormulas)
 {
