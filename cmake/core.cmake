@@ -24,6 +24,11 @@ target_compile_options(ring_curvature_core PRIVATE -fno-math-errno)
 # Nor does it read floating-point exception flags: this lets the compiler form both sides of a
 # selection (if-conversion), which vectorizes loops with `c ? a / b : nan`. Values are unchanged.
 target_compile_options(ring_curvature_core PRIVATE -fno-trapping-math)
+# No fused multiply-adds formed from a multiply and an add: they round once where the two
+# operations round twice, so a clone for a CPU with FMA (the AVX-512 feature kernels, see
+# src/core/simd_clones.hpp) would give other bits than the baseline. Without FMA in the target
+# (the baseline and AVX2 code) this changes nothing.
+target_compile_options(ring_curvature_core PRIVATE -ffp-contract=off)
 # Hot loops are compiled for baseline x86-64 and for AVX2 (src/core/simd_clones.hpp); OFF builds
 # the baseline alone (to check that both give the same bits, or for a toolchain without ifunc).
 option(RC_SIMD_CLONES "AVX2 versions of the core's hot loops, chosen at load time" ON)

@@ -91,7 +91,7 @@ inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R
   }
   return large != 0;
 }
-RC_SIMD_CLONES bool chordProducts(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
+RC_SIMD_CLONES_WIDE bool chordProducts(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
                                   const float* __restrict rho, float* __restrict cross, float* __restrict dot,
                                   float* __restrict v2, float* __restrict u2)
 {
@@ -110,7 +110,7 @@ void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R,
 // truncation (exact: the quotient lies in (0, 2.5e5]), which vectorizes, where SSE2 has no
 // rounding instruction and std::ceil stayed a call per sample. In float with the chords
 // (eight lanes; the quotient is below 2^24, so the truncation stays exact).
-RC_SIMD_CLONES void chordSamples(int K, const float* __restrict rho, float cos_phi, float dtheta, float chord,
+RC_SIMD_CLONES_WIDE void chordSamples(int K, const float* __restrict rho, float cos_phi, float dtheta, float chord,
                                  int max_h, int* __restrict H)
 {
   for (int k = 0; k < K; ++k)
@@ -129,7 +129,7 @@ RC_SIMD_CLONES void chordSamples(int K, const float* __restrict rho, float cos_p
 // loop vectorizes (its divisions were 7 % of the feature stage one at a time).
 // In float (eight lanes): a prediction error of ~1 ulp of the range (1e-6 m at 10 m) is 1e-7
 // of the range, far below the smallest jump called one (jump_min_ratio, 0.03).
-RC_SIMD_CLONES void linkJumps(int K, const int* __restrict L, const int* __restrict R, const float* __restrict rp,
+RC_SIMD_CLONES_WIDE void linkJumps(int K, const int* __restrict L, const int* __restrict R, const float* __restrict rp,
                               float* __restrict jump)
 {
   constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
@@ -146,7 +146,7 @@ RC_SIMD_CLONES void linkJumps(int K, const int* __restrict L, const int* __restr
 
 // Discontinuity of each sample: the larger of its two links' jumps (jump[k] is link (k-1, k),
 // NaN where there is none; jump[K] repeats jump[0] for the seam). NaN only when both are.
-RC_SIMD_CLONES void largerLink(int K, const int* __restrict R, const float* __restrict jump, float* __restrict disc)
+RC_SIMD_CLONES_WIDE void largerLink(int K, const int* __restrict R, const float* __restrict jump, float* __restrict disc)
 {
   constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
   for (int k = 0; k < K; ++k)
@@ -208,6 +208,7 @@ struct RingCtx
 const char* coreLoopsIsa()
 {
 #if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx512f")) return "avx2, features avx512f";
   return __builtin_cpu_supports("avx2") ? "avx2" : "baseline";
 #else
   return "baseline";
@@ -226,7 +227,7 @@ void FeatureComputer::compute(const ScanGrid& grid, const Params& params, Featur
   for (int n = 0; n < grid.num_rings; ++n) computeRing(grid, params, n, out);
 }
 
-RC_SIMD_CLONES void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Features& out)
+RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Features& out)
 {
   const std::uint32_t b = g.ring_begin[static_cast<std::size_t>(n)];
   const std::uint32_t K = g.ring_begin[static_cast<std::size_t>(n) + 1] - b;

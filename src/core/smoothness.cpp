@@ -79,7 +79,7 @@ inline void unclampedRange(int K, int w, int ext, int& k0, int& k1)
 
 // Detrended (w + 1 >= 3): the centred and the two one-sided windows. Two functions rather than
 // one with a lambda or template: the loops must be compiled inside the AVX2 clone.
-RC_SIMD_CLONES void fullWindowSmoothnessSided(int K, int w, int ext, int E, const double* __restrict S0,
+RC_SIMD_CLONES_WIDE void fullWindowSmoothnessSided(int K, int w, int ext, int E, const double* __restrict S0,
                                               const double* __restrict S1, const double* __restrict S2,
                                               float* __restrict out)
 {
@@ -122,7 +122,7 @@ RC_SIMD_CLONES void fullWindowSmoothnessSided(int K, int w, int ext, int E, cons
 }
 
 // The centred window alone (plain, or detrended with w + 1 < 3).
-RC_SIMD_CLONES void fullWindowSmoothnessCentred(int K, int w, int ext, bool detrend, int E,
+RC_SIMD_CLONES_WIDE void fullWindowSmoothnessCentred(int K, int w, int ext, bool detrend, int E,
                                                 const double* __restrict S0, const double* __restrict S1,
                                                 const double* __restrict S2, float* __restrict out)
 {
@@ -183,7 +183,7 @@ template <int W>
   }
 }
 
-RC_SIMD_CLONES void directSmoothness(int K, int w, const float* __restrict rp, float* __restrict out)
+RC_SIMD_CLONES_WIDE void directSmoothness(int K, int w, const float* __restrict rp, float* __restrict out)
 {
   switch (w)
   {
@@ -241,7 +241,7 @@ inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, con
 }
 }  // namespace
 
-RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const float* rpf,
+RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const float* rpf,
                                    const int* L, const int* R, const int* seg, int num_seg, double* prefix, float* out)
 {
   const int ext = closed ? w : 0;
