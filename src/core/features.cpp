@@ -91,9 +91,10 @@ inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R
   }
   return large != 0;
 }
-RC_SIMD_CLONES_WIDE bool chordProducts(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
-                                  const float* __restrict rho, float* __restrict cross, float* __restrict dot,
-                                  float* __restrict v2, float* __restrict u2)
+RC_SIMD_CLONES_WIDE bool chordProducts(int K, float c, const int* H, const int* L, const int* R,
+                                       const float* __restrict az, const float* __restrict rho,
+                                       float* __restrict cross, float* __restrict dot, float* __restrict v2,
+                                       float* __restrict u2)
 {
   return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos<float>);
 }
@@ -111,7 +112,7 @@ void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R,
 // rounding instruction and std::ceil stayed a call per sample. In float with the chords
 // (eight lanes; the quotient is below 2^24, so the truncation stays exact).
 RC_SIMD_CLONES_WIDE void chordSamples(int K, const float* __restrict rho, float cos_phi, float dtheta, float chord,
-                                 int max_h, int* __restrict H)
+                                      int max_h, int* __restrict H)
 {
   for (int k = 0; k < K; ++k)
   {
@@ -130,7 +131,7 @@ RC_SIMD_CLONES_WIDE void chordSamples(int K, const float* __restrict rho, float 
 // In float (eight lanes): a prediction error of ~1 ulp of the range (1e-6 m at 10 m) is 1e-7
 // of the range, far below the smallest jump called one (jump_min_ratio, 0.03).
 RC_SIMD_CLONES_WIDE void linkJumps(int K, const int* __restrict L, const int* __restrict R, const float* __restrict rp,
-                              float* __restrict jump)
+                                   float* __restrict jump)
 {
   constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
   for (int k = 0; k < K; ++k)
@@ -146,7 +147,8 @@ RC_SIMD_CLONES_WIDE void linkJumps(int K, const int* __restrict L, const int* __
 
 // Discontinuity of each sample: the larger of its two links' jumps (jump[k] is link (k-1, k),
 // NaN where there is none; jump[K] repeats jump[0] for the seam). NaN only when both are.
-RC_SIMD_CLONES_WIDE void largerLink(int K, const int* __restrict R, const float* __restrict jump, float* __restrict disc)
+RC_SIMD_CLONES_WIDE void largerLink(int K, const int* __restrict R, const float* __restrict jump,
+                                    float* __restrict disc)
 {
   constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
   for (int k = 0; k < K; ++k)

@@ -80,8 +80,8 @@ inline void unclampedRange(int K, int w, int ext, int& k0, int& k1)
 // Detrended (w + 1 >= 3): the centred and the two one-sided windows. Two functions rather than
 // one with a lambda or template: the loops must be compiled inside the AVX2 clone.
 RC_SIMD_CLONES_WIDE void fullWindowSmoothnessSided(int K, int w, int ext, int E, const double* __restrict S0,
-                                              const double* __restrict S1, const double* __restrict S2,
-                                              float* __restrict out)
+                                                   const double* __restrict S1, const double* __restrict S2,
+                                                   float* __restrict out)
 {
   const double nc = 2.0 * w + 1.0, ns = w + 1.0;
   const double ic = invCount(nc), it = invTrend(nc), ics = invCount(ns), its = invTrend(ns);
@@ -123,8 +123,8 @@ RC_SIMD_CLONES_WIDE void fullWindowSmoothnessSided(int K, int w, int ext, int E,
 
 // The centred window alone (plain, or detrended with w + 1 < 3).
 RC_SIMD_CLONES_WIDE void fullWindowSmoothnessCentred(int K, int w, int ext, bool detrend, int E,
-                                                const double* __restrict S0, const double* __restrict S1,
-                                                const double* __restrict S2, float* __restrict out)
+                                                     const double* __restrict S0, const double* __restrict S1,
+                                                     const double* __restrict S2, float* __restrict out)
 {
   const double nc = 2.0 * w + 1.0;
   const double ic = invCount(nc), it = invTrend(nc);
@@ -241,8 +241,9 @@ inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, con
 }
 }  // namespace
 
-RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp, const float* rpf,
-                                   const int* L, const int* R, const int* seg, int num_seg, double* prefix, float* out)
+RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp,
+                                        const float* rpf, const int* L, const int* R, const int* seg, int num_seg,
+                                        double* prefix, float* out)
 {
   const int ext = closed ? w : 0;
   // Windows hold at most 2w + 1 samples: 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) per window
