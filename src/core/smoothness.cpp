@@ -20,11 +20,11 @@ namespace
 {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
-// (sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12).
 // The largest smoothness_window that Params::validate lets through.
 constexpr int kMaxWindow = 256;
 
+// 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
+// (sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12).
 inline double invCount(double cnt) { return 1.0 / cnt; }
 inline double invTrend(double cnt) { return 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt); }
 
@@ -147,11 +147,13 @@ RC_SIMD_CLONES_WIDE void fullWindowSmoothnessCentred(int K, int w, int ext, bool
 // wide (KITTI: features -13 %).
 constexpr int kMaxDirect = 4;
 
-// Residual variance of a window of n samples from the sums of d, (j - jbar) d and d^2.
-[[gnu::always_inline]] inline float residualVariance(float s0, float s1, float s2, float ic, float it)
+// Residual variance of a window of n samples from the sums of d, (j - jbar) d and d^2, with
+// ic = invCount(n) and it = invTrend(n): float in the direct windows, double near a gap.
+template <class T>
+[[gnu::always_inline]] inline T residualVariance(T s0, T s1, T s2, T ic, T it)
 {
-  const float mean = s0 * ic;
-  return std::max(0.0f, s2 * ic - mean * mean - s1 * s1 * it);
+  const T mean = s0 * ic;
+  return std::max(T(0), s2 * ic - mean * mean - s1 * s1 * it);
 }
 
 template <int W>
@@ -257,8 +259,8 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
   for (std::size_t t = 1; t < table_end; ++t)
   {
     const double cnt = static_cast<double>(t);
-    inv_cnt_table[t] = 1.0 / cnt;
-    inv_trend_table[t] = t >= 3 ? 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt) : 0.0;
+    inv_cnt_table[t] = invCount(cnt);
+    inv_trend_table[t] = t >= 3 ? invTrend(cnt) : 0.0;
   }
   if (detrend && w >= 2 && w <= kMaxDirect)
   {
@@ -277,9 +279,7 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
         s1 += (static_cast<double>(j - lo) - jbar) * d;
         s2 += d * d;
       }
-      const double mean = s0 * inv_cnt_table[hi - lo];
-      const double var = s2 * inv_cnt_table[hi - lo] - mean * mean - s1 * s1 * inv_trend_table[hi - lo];
-      return std::max(0.0, var);
+      return residualVariance(s0, s1, s2, inv_cnt_table[hi - lo], inv_trend_table[hi - lo]);
     }, true);
     return;
   }
@@ -333,7 +333,7 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
     const std::size_t n_win = hi - lo;
     const double cnt = static_cast<double>(n_win);
     const bool tabled = n_win < kTable;
-    const double inv_cnt = tabled ? inv_cnt_table[n_win] : 1.0 / cnt;
+    const double inv_cnt = tabled ? inv_cnt_table[n_win] : invCount(cnt);
     const double s0 = S0[hi] - S0[lo], s1 = S1[hi] - S1[lo], s2 = S2[hi] - S2[lo];
     const double mean = s0 * inv_cnt;
     double var = s2 * inv_cnt - mean * mean;  // Eq 10
@@ -341,8 +341,7 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
     {
       const double jbar = 0.5 * static_cast<double>(lo + hi - 1);
       // sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12
-      const double inv_trend =
-          tabled ? inv_trend_table[n_win] : 1.0 / ((cnt * cnt - 1.0) * cnt * (1.0 / 12.0) * cnt);
+      const double inv_trend = tabled ? inv_trend_table[n_win] : invTrend(cnt);
       const double sjr = s1 - jbar * s0;  // sum (j - jbar) * rho
       var -= sjr * sjr * inv_trend;       // remove the linear trend
     }
