@@ -110,15 +110,14 @@ private:
     std::uint32_t point, of;
   };
   void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
-  /// Where ring r's keys start in the scatter (keys_tmp_): after two sentinel keys per ring.
-  static std::uint32_t ringBase(const ScanGrid& grid, std::size_t r)
-  {
-    return grid.ring_begin[r] + 2 * static_cast<std::uint32_t>(r + 1);
-  }
-  /// Scatters points [from, to) of rings interleaved point by point, folding identical returns
-  /// when kFold; returns the new number of followers (ring_sort.cpp).
-  template <bool kFold>
-  std::size_t scatterInterleaved(std::size_t from, std::size_t to, std::size_t num_followers);
+  /// Scatters points [from, to) of rings interleaved point by point into their rings (ring_sort.cpp).
+  void scatterInterleaved(std::size_t from, std::size_t to);
+  /// Folds one ring's k keys in firing order in place (ring_fold.cpp): keeps a key unless its
+  /// azimuth and range equal those of one of the two keys before it as they came, and lists the
+  /// others in `followers` from `num_followers` on (up to 3 entries past the count are
+  /// written). `sentinel` is a key whose range (range[index]) no point has. Returns the number kept.
+  static std::uint32_t foldRing(std::uint64_t* keys, std::uint32_t k, std::uint64_t sentinel, const double* range,
+                                Follower* followers, std::size_t& num_followers);
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   /// Returns true when it also gathered the coordinates, set the grid positions and summed each

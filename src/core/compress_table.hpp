@@ -1,7 +1,8 @@
 // For each 8-bit mask, the lanes of its set bits in order: the lane order that moves the marked
 // lanes of an eight-lane vector to its front (left-packing), or the offsets of the marked
 // elements of a group of eight. Shared by the thresholds' candidate compaction, the grid's
-// Duplicate list and the measured resolution's bracket pass.
+// Duplicate list and the measured resolution's bracket pass; and the same for four 64-bit
+// elements (the organized grid's gather, the dual-return fold).
 #pragma once
 
 #include <cstdint>
@@ -22,5 +23,26 @@ constexpr CompressTable makeCompressTable()
   return t;
 }
 inline constexpr CompressTable kCompress = makeCompressTable();
+
+/// For each 4-bit mask, the 32-bit lanes that move the marked 64-bit elements of a four-element
+/// vector to its front (two lanes an element): left-packing doubles or 64-bit keys.
+struct PairTable
+{
+  std::int32_t lane[16][8];
+};
+constexpr PairTable makePairTable()
+{
+  PairTable t{};
+  for (int mask = 0; mask < 16; ++mask)
+    for (int l = 0, j = 0; l < 4; ++l)
+      if ((mask >> l) & 1)
+      {
+        t.lane[mask][2 * j] = 2 * l;
+        t.lane[mask][2 * j + 1] = 2 * l + 1;
+        ++j;
+      }
+  return t;
+}
+inline constexpr PairTable kPairs = makePairTable();
 
 }  // namespace ring_curvature

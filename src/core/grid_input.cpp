@@ -243,7 +243,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   grid.state.resize(n);
   grid.grid_pos.resize(n);
   ring_of_.resize(n);
-  prange_.resize(n + 1);  // [n]: the ring sort's sentinel range (ring_sort.cpp)
+  prange_.resize(n + 1);  // [n]: the ring fold's sentinel range (ring_sort.cpp)
   paz_.resize(n);
   px_.resize(n);
   py_.resize(n);

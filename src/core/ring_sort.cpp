@@ -34,6 +34,12 @@ inline std::uint64_t sortKey(float azimuth, std::size_t i)
   return (static_cast<std::uint64_t>(azimuthKey(azimuth)) << 32) | static_cast<std::uint32_t>(i);
 }
 
+// The sort keys of points [i0, i0 + len) from their azimuths az[0, len).
+RC_SIMD_CLONES void sortKeys(const float* __restrict az, std::size_t i0, std::size_t len, std::uint64_t* __restrict key)
+{
+  for (std::size_t j = 0; j < len; ++j) key[j] = sortKey(az[j], i0 + j);
+}
+
 // The azimuth steps of a ring's keys in their order, step[j] = az[j] - az[j - 1] (j >= 1), a flag
 // where a step goes beyond -pi or pi, and how many steps go down.
 RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, std::size_t k, float* __restrict step,
@@ -62,31 +68,26 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
   std::size_t m = grid.ring_begin[R];
   keys_.resize(m);
-  //    Each ring's keys start at ringBase(grid, r), after two sentinel keys of its own (see
-  //    scatterInterleaved).
-  keys_tmp_.resize(m + 2 * R);
+  keys_tmp_.resize(m);
   bin_start_.resize(R + 1);
   std::uint32_t* const next = bin_start_.data();
   std::uint64_t* const unsorted = keys_tmp_.data();
-  prange_[n] = -1.0;  // no point's range: the sentinels' (readPoints leaves room for it)
-  for (std::size_t r = 0; r < R; ++r)
-  {
-    next[r] = ringBase(grid, r);
-    unsorted[next[r] - 1] = unsorted[next[r] - 2] = n;  // azimuth key 0, index n
-  }
-  //    The sort by ring also folds identical returns, in the same pass (see below). Dual-return
-  //    drivers send both returns of a firing, identical where the beam met one surface (half the
-  //    points of a dual-return VLP-16 frame), one or two places apart in the ring's sequence. Such a point (same azimuth and
-  //    range as one of the ring's last two kept points) stays off the sort, and
-  //    resolveFollowers gives it the state and grid position of its twin. That is exactly what
-  //    removeDuplicates would have decided: sorted by (azimuth, index) it comes after its twin,
-  //    in the same firing (same azimuth), never a representative, with the same range, hence
-  //    the same verdict; and the spacings measureResolution keeps do not change (it drops the
-  //    zero ones). It needs same_firing > 0 (`fold_identical`).
+  for (std::size_t r = 0; r < R; ++r) next[r] = grid.ring_begin[r];
+  //    The sort by ring also folds identical returns (see below). Dual-return drivers send both
+  //    returns of a firing, identical where the beam met one surface (half the points of a
+  //    dual-return VLP-16 frame), one or two places apart in the ring's sequence. Such a point
+  //    (same azimuth and range as one of the two points before it in its ring's firing order,
+  //    or of the ring's last two kept points) stays off the sort, and resolveFollowers gives it
+  //    the state and grid position of its twin. That is exactly what removeDuplicates would
+  //    have decided: sorted by (azimuth, index) it comes after its twin, in the same firing
+  //    (same azimuth), never a representative, with the same range, hence the same verdict;
+  //    and the spacings measureResolution keeps do not change (it drops the zero ones). It
+  //    needs same_firing > 0 (`fold_identical`).
   //    (How each ring arrived, which sortRing needs, is read afterwards from its kept keys,
   //    which are in firing order: kept alongside the fold, it went through memory at every
   //    point.)
-  growTo(followers_, n);
+  prange_[n] = -1.0;  // no point's range: foldRing's start value (readPoints leaves room for it)
+  growTo(followers_, n + 4);  // (room for foldRing's vector stores past the count)
   Follower* const followers = followers_.data();
   std::size_t num_followers = 0;
   unfolded_largest_ = 0;
@@ -130,18 +131,28 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   constexpr std::size_t kFoldProbe = 4096;
   // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
   // come, with the current ring's state in registers. Rings interleaved point by point
-  // (velodyne firing order) are folded as they are scattered, with the ring's output as its
-  // state (scatterInterleaved).
+  // (velodyne firing order) are scattered first and then folded ring by ring.
   std::size_t changes = 0;
   for (std::size_t i = 1; i < n; ++i) changes += ring_of[i] != ring_of[i - 1] ? 1 : 0;
   if (changes > n / 8)
   {
-    // Scattered and folded in one pass (scatterInterleaved): the ring's last two kept keys are
-    // the last two written to it. Probed as below, in input order.
-    const std::size_t probe = fold_identical ? std::min(n, kFoldProbe) : 0;
-    num_followers = scatterInterleaved<true>(0, probe, 0);
-    num_followers = num_followers > 0 ? scatterInterleaved<true>(probe, n, num_followers)
-                                      : scatterInterleaved<false>(probe, n, 0);
+    // Scattered whole, then folded ring by ring (foldRing, ring_fold.cpp): each ring's keys are
+    // then contiguous and in firing order, so the fold compares each key with the two before it
+    // four keys at a time. Folded as they were scattered (until session 8), every point loaded
+    // and compared its ring's last two keys and their ranges one at a time: a sixth of a
+    // dual-return frame's instructions. Probed as the other branch is: when the first
+    // kFoldProbe keys, ring by ring, fold nothing, the other rings are left as they are.
+    scatterInterleaved(0, n);
+    if (fold_identical)
+    {
+      std::size_t tested = 0;
+      for (std::size_t r = 0; r < R && (num_followers > 0 || tested < kFoldProbe); ++r)
+      {
+        const std::uint32_t b = grid.ring_begin[r], k = next[r] - b;
+        next[r] = b + foldRing(unsorted + b, k, n, prange, followers, num_followers);
+        tested += k;
+      }
+    }
   }
   else
   {
@@ -189,11 +200,11 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    The rings close up over the folded points as they are sorted.
   //    (The kept counts are taken first: sortRing's bucket sort reuses bin_start_, i.e. next.)
   ring_kept_.resize(R);
-  for (std::size_t r = 0; r < R; ++r) ring_kept_[r] = next[r] - ringBase(grid, r);
+  for (std::size_t r = 0; r < R; ++r) ring_kept_[r] = next[r] - grid.ring_begin[r];
   std::uint32_t kept = 0;
   for (std::size_t r = 0; r < R; ++r)
   {
-    const std::uint32_t b = ringBase(grid, r), k = ring_kept_[r];
+    const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];  // (before ring r's entry is rewritten)
     grid.ring_begin[r] = kept;
     sortRing(unsorted + b, keys_.data() + kept, k);
     kept += k;
@@ -209,56 +220,29 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   }
 }
 
-template <bool kFold>
-std::size_t ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to, std::size_t num_followers)
+void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
 {
-  // Points [from, to) in input order into their rings' next slots, folding (kFold) on the way:
-  // the ring's last two kept keys are the two before its next slot (or its sentinels), so its
-  // fold state is its output itself, and the twins' ranges are those of points read a few
-  // dozen points before. Scattered whole and then folded ring by ring (until session 7), every
-  // key went through memory twice; kept in a state per ring (RingFold), every point loaded and
-  // stored six fields. Every point's key and follower entry are written, and the slot and the
-  // count advance by the verdict. (Restrict locals: a follower's stores could alias next[],
-  // which would be reloaded.)
+  // Points [from, to) in input order into their rings' next slots, their keys made a block at a
+  // time in a loop that vectorizes: made in the scatter loop, the key took half of its 22
+  // instructions a point. (Restrict locals: a key's store could alias next[], which would be
+  // reloaded.)
   const std::int32_t* __restrict const ring_of = ring_of_.data();
   const float* __restrict const paz = paz_.data();
-  const double* __restrict const prange = prange_.data();
   std::uint32_t* __restrict const next = bin_start_.data();
   std::uint64_t* __restrict const unsorted = keys_tmp_.data();
-  Follower* __restrict const followers = followers_.data();
-  const auto rangeBits = [prange](std::uint32_t i) {
-    std::uint64_t b;
-    std::memcpy(&b, &prange[i], sizeof b);
-    return b;
-  };
-  for (std::size_t i = from; i < to; ++i)
+  constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
+  alignas(32) std::uint64_t keys[kBlock];
+  for (std::size_t i0 = from; i0 < to; i0 += kBlock)
   {
-    const std::int32_t r = ring_of[i];
-    if (r < 0) continue;
-    const std::uint64_t key = sortKey(paz[i], i);
-    const std::uint32_t w = next[r];
-    unsorted[w] = key;
-    if constexpr (kFold)
+    const std::size_t len = std::min(kBlock, to - i0);
+    sortKeys(paz + i0, i0, len, keys);
+    for (std::size_t j = 0; j < len; ++j)
     {
-      // Compared as bits, in integer registers: for these values that is the float comparison
-      // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
-      // finite, and the sentinels' -1 matches none), without ucomis / setnp pairs.
-      // (Each test is one comparison of the differences' bits.)
-      const std::uint64_t k1 = unsorted[w - 1], k2 = unsorted[w - 2];
-      const std::uint64_t range = rangeBits(static_cast<std::uint32_t>(i));
-      const bool same1 = (((key ^ k1) >> 32) | (range ^ rangeBits(keyIndex(k1)))) == 0;
-      const bool same2 = (((key ^ k2) >> 32) | (range ^ rangeBits(keyIndex(k2)))) == 0;
-      const bool same = same1 | same2;
-      followers[num_followers] = {static_cast<std::uint32_t>(i), keyIndex(same1 ? k1 : k2)};
-      num_followers += same ? 1 : 0;
-      next[r] = w + (same ? 0 : 1);  // a follower's key is overwritten by the ring's next one
-    }
-    else
-    {
-      next[r] = w + 1;
+      const std::int32_t r = ring_of[i0 + j];
+      if (r < 0) continue;
+      unsorted[next[r]++] = keys[j];
     }
   }
-  return num_followers;
 }
 
 void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
@@ -380,8 +364,9 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
 
 void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
 {
-  // Any order: a follower's twin is always a point that was kept (placed on the sort), whose
-  // state removeDuplicates has decided.
+  // In list order: a follower's twin is a point that was kept (placed on the sort), whose state
+  // removeDuplicates has decided, or, from foldRing, possibly a follower listed before it in
+  // its ring (a third identical return), whose verdict is set by then.
   PointState* const state = grid.state.data();
   std::int32_t* const grid_pos = grid.grid_pos.data();
   // The duplicates counted in a register: incremented through `++(duplicate ? a : b)`, each one

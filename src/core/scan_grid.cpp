@@ -106,27 +106,6 @@ __attribute__((target("avx2,popcnt"))) std::size_t listDuplicatesAvx2(const Poin
 #endif
 
 #if defined(RC_SIMD_CLONES_ON)
-// For each 4-bit mask, the 32-bit lanes that move the marked doubles of a four-double vector
-// to its front (two lanes a double).
-struct PairTable
-{
-  std::int32_t lane[16][8];
-};
-constexpr PairTable makePairTable()
-{
-  PairTable t{};
-  for (int mask = 0; mask < 16; ++mask)
-    for (int l = 0, j = 0; l < 4; ++l)
-      if ((mask >> l) & 1)
-      {
-        t.lane[mask][2 * j] = 2 * l;
-        t.lane[mask][2 * j + 1] = 2 * l + 1;
-        ++j;
-      }
-  return t;
-}
-constexpr PairTable kPairs = makePairTable();
-
 struct OrganizedInput
 {
   const std::int32_t* ring;

@@ -355,8 +355,11 @@ TEST(ScanGrid, FoldedDualReturnsGetTheVerdictOfTheSort)
   EXPECT_EQ(agreeing(gl, rl, positions_by(late_key), false), dual_order.size());
 
   // Velodyne's firing order: the rings interleaved, a firing pair's returns of every ring in
-  // turn, each ring's own sequence still the dual order. Folded in the scatter by ring (a ring's
-  // last two kept points are the last two written to it), with the same verdicts.
+  // turn, each ring's own sequence still the dual order. Scattered by ring, then each ring folded
+  // four keys at a time against the two points before each as they came (not the last two
+  // kept): a third return's twin is then the folded copy before it, whose verdict must be set
+  // first (resolved in the wrong order, the third returns would take a grid position of -1).
+  // The same copies are folded, with the same verdicts.
   const auto firing_key = [per_ring](const Item& it) {
     return std::make_pair((it.from % per_ring) / 2, it.from / per_ring);
   };
