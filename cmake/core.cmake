@@ -6,6 +6,7 @@ add_library(ring_curvature_core
   src/core/grid_input.cpp
   src/core/ring_sort.cpp
   src/core/ring_fold.cpp
+  src/core/grid_organized.cpp
   src/core/grid_resolution.cpp
   src/core/grid_vertical.cpp
   src/core/cloud_view_checks.cpp

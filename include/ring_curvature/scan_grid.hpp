@@ -121,8 +121,12 @@ private:
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   /// Returns true when it also gathered the coordinates, set the grid positions and summed each
-  /// ring's elevation sines (into ring_sum_): float32 clouds on AVX2 CPUs.
+  /// ring's elevation sines (into ring_sum_): float32 clouds on AVX2 CPUs (grid_organized.cpp).
   bool placeOrganized(const PointCloudView& view, ScanGrid& grid);
+  /// The input pass and placeOrganized's work in one pass, for organized float32 clouds with no
+  /// ring field or a uint16 one, on AVX2 CPUs; false (nothing done) for any other. `largest`:
+  /// the largest ring field read (grid_organized.cpp).
+  bool readOrganized(const PointCloudView& view, const Params& params, ScanGrid& grid, std::uint32_t& largest);
   void measureResolution(const Params& params, ScanGrid& grid);  // grid_resolution.cpp
   void removeDuplicates(const Params& params, ScanGrid& grid);
   void linkRings(const Params& params, ScanGrid& grid);
@@ -150,6 +154,7 @@ private:
   SpacingMedian spacing_median_;
   UninitializedVector<std::uint32_t> column_;  // organized: input column of each grid position
   std::vector<double> ring_sum_;       // organized: each ring's sum of elevation sines
+  bool placed_ = false;                // organized: readOrganized placed this frame's points
 };
 
 namespace detail

@@ -3,6 +3,7 @@
 // cloud has no ring field.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "input_avx2.hpp"
 #include "prefetch.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
@@ -90,39 +91,6 @@ RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const flo
 }
 
 #if defined(RC_SIMD_CLONES_ON)
-// fastAtan2 (scan_grid.hpp) eight lanes at a time, operation for operation, so bit for bit the
-// same: the comparisons on bit patterns are signed ones here (AVX2 has no unsigned 32-bit
-// compare), which agree with the unsigned ones for these operands (|x| and |y| have a clear sign
-// bit; "x < 0" is "bits in (0x80000000, 0xff800000]", i.e. signed in (INT_MIN, -0x800000]).
-__attribute__((target("avx2"))) inline __m256 fastAtan2Avx2(__m256 y, __m256 x)
-{
-  const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u));
-  const __m256i above_inf = _mm256_set1_epi32(0x7f800001);  // bits < above_inf: not above +inf
-  const __m256i sx = _mm256_castps_si256(x), sy = _mm256_castps_si256(y);
-  const __m256i bx = _mm256_andnot_si256(sign, sx), by = _mm256_andnot_si256(sign, sy);  // |x|, |y|
-  const __m256i x_lt_y = _mm256_and_si256(_mm256_cmpgt_epi32(by, bx), _mm256_cmpgt_epi32(above_inf, by));
-  const __m256i y_lt_x = _mm256_and_si256(_mm256_cmpgt_epi32(bx, by), _mm256_cmpgt_epi32(above_inf, bx));
-  const __m256i mx = _mm256_blendv_epi8(bx, by, x_lt_y), mn = _mm256_blendv_epi8(bx, by, y_lt_x);
-  const __m256i nonzero = _mm256_and_si256(_mm256_cmpgt_epi32(mx, _mm256_setzero_si256()),
-                                           _mm256_cmpgt_epi32(above_inf, mx));
-  const __m256 one = _mm256_set1_ps(1.0f);
-  const __m256 a = _mm256_div_ps(_mm256_castsi256_ps(mn), _mm256_blendv_ps(one, _mm256_castsi256_ps(mx),
-                                                                          _mm256_castsi256_ps(nonzero)));
-  const __m256 s = _mm256_mul_ps(a, a);
-  __m256 r = _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(0.0208351f), s), _mm256_set1_ps(0.0851330f));
-  r = _mm256_add_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.1801410f));
-  r = _mm256_sub_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.3302995f));
-  r = _mm256_add_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.9998660f));
-  r = _mm256_mul_ps(r, a);
-  r = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(1.57079637f), r), _mm256_castsi256_ps(x_lt_y));
-  const __m256i neg_limit = _mm256_set1_epi32(static_cast<int>(0xff800001u));  // bits <= 0xff800000
-  const __m256i x_neg = _mm256_and_si256(_mm256_cmpgt_epi32(sx, sign), _mm256_cmpgt_epi32(neg_limit, sx));
-  const __m256i y_neg = _mm256_and_si256(_mm256_cmpgt_epi32(sy, sign), _mm256_cmpgt_epi32(neg_limit, sy));
-  r = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(3.14159265358979f), r), _mm256_castsi256_ps(x_neg));
-  r = _mm256_blendv_ps(r, _mm256_xor_ps(r, _mm256_castsi256_ps(sign)), _mm256_castsi256_ps(y_neg));
-  return _mm256_and_ps(r, _mm256_castsi256_ps(nonzero));
-}
-
 // readXyzRecords eight points at a time, written with AVX2 intrinsics: each field is one gather
 // and each output one store. The compiler's vectorization of the loop above worked sixteen points
 // at a time, loading every field with a single-lane insert and spilling its vectors to the stack
@@ -171,27 +139,15 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
                  z = _mm256_i32gather_ps(base, vz, 1);
-    // (macros: a lambda does not take the function's target, and an AVX function of its own
-    // would pass vectors by an ABI the baseline build warns about)
-#define RC_SQUARE(v) _mm256_mul_pd(_mm256_cvtps_pd(v), _mm256_cvtps_pd(v))
-#define RC_RANGE4(x4, y4, z4) _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(RC_SQUARE(x4), RC_SQUARE(y4)), RC_SQUARE(z4)))
-    const __m256d r0 = RC_RANGE4(_mm256_castps256_ps128(x), _mm256_castps256_ps128(y), _mm256_castps256_ps128(z));
-    const __m256d r1 = RC_RANGE4(_mm256_extractf128_ps(x, 1), _mm256_extractf128_ps(y, 1), _mm256_extractf128_ps(z, 1));
+    __m256d r0, r1;
+    detail::rangesAvx2(x, y, z, r0, r1);
     _mm256_storeu_pd(range_out + i, r0);
     _mm256_storeu_pd(range_out + i + 4, r1);
     _mm256_storeu_ps(px + i, x);
     _mm256_storeu_ps(py + i, y);
     _mm256_storeu_ps(pz + i, z);
-    _mm256_storeu_ps(paz + i, fastAtan2Avx2(y, x));
-    // valid per lane; each half's four 64-bit masks become 32-bit ones (their low halves)
-#define RC_VALID4(r)                                                                                            \
-  _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(                                                           \
-      _mm256_castpd_si256(_mm256_and_pd(_mm256_cmp_pd(r, lo, _CMP_GE_OQ), _mm256_cmp_pd(r, hi, _CMP_LE_OQ))), \
-      _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7)))
-    const __m256i valid = _mm256_set_m128i(RC_VALID4(r1), RC_VALID4(r0));
-#undef RC_VALID4
-#undef RC_RANGE4
-#undef RC_SQUARE
+    _mm256_storeu_ps(paz + i, detail::fastAtan2Avx2(y, x));
+    const __m256i valid = detail::validAvx2(r0, r1, lo, hi);
     __m256i ring = fixed;
     if (has_ring)
     {
@@ -239,6 +195,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
 {
   const std::size_t n = view.size();
   grid.num_input = n;
+  placed_ = false;
   // Every entry of these is written below (no fill first: one pass over the frame instead of two).
   grid.state.resize(n);
   grid.grid_pos.resize(n);
@@ -275,6 +232,19 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   }
   else if (fast && view.organized())
   {
+    std::uint32_t largest_field = 0;
+    if (readOrganized(view, params, grid, largest_field))
+    {
+      placed_ = true;
+      if (largest_field < static_cast<std::uint32_t>(params.max_rings)) return Status::success();
+      for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
+      {
+        const std::size_t row = i / view.width, col = i % view.width;
+        std::uint16_t r16;
+        std::memcpy(&r16, view.data + row * view.row_step + col * view.point_step + view.ring.offset, sizeof r16);
+        if (r16 >= params.max_rings) return ringError(i, r16);
+      }
+    }
     // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
     for (std::uint32_t row = 0; row < view.height; ++row)
     {

@@ -105,108 +105,6 @@ __attribute__((target("avx2,popcnt"))) std::size_t listDuplicatesAvx2(const Poin
 }
 #endif
 
-#if defined(RC_SIMD_CLONES_ON)
-struct OrganizedInput
-{
-  const std::int32_t* ring;
-  const float *az, *x, *y, *z;
-  const double* range;
-};
-struct OrganizedGrid
-{
-  std::uint32_t* index;
-  float* az;
-  std::uint32_t* column;
-  double *x, *y, *z, *range;
-  std::int32_t* grid_pos;
-};
-
-// One row (ring) of an organized float32 cloud, columns [0, W) from input index i0, its valid
-// points appended at w: the placement (index, azimuth, column), the gather of the coordinates,
-// the grid positions and the sum of z / range in column order, which were three passes over the
-// frame. Eight columns at a time: the valid lanes are moved to the front by the compress table
-// and stored whole (the arrays have room for 8 past the end); the sum adds the eight quotients
-// in order with +0 for invalid lanes (s never is -0, so s + 0 is s: the same bits as adding the
-// valid ones alone). Returns the new w.
-__attribute__((target("avx2,popcnt"))) std::size_t placeRowAvx2(const OrganizedInput& in, const OrganizedGrid& out,
-                                                                  std::size_t i0, std::size_t W, std::size_t w,
-                                                                  double& sum)
-{
-  double s = sum;
-  std::size_t c = 0;
-  for (; c + 8 <= W; c += 8)
-  {
-    const std::size_t i = i0 + c;
-    const __m256i valid = _mm256_cmpgt_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.ring + i)),
-                                             _mm256_set1_epi32(-1));
-    const auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(valid)));
-    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[mask]));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.index + w),
-                        _mm256_add_epi32(perm, _mm256_set1_epi32(static_cast<int>(i))));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.column + w),
-                        _mm256_add_epi32(perm, _mm256_set1_epi32(static_cast<int>(c))));
-    _mm256_storeu_ps(out.az + w, _mm256_permutevar8x32_ps(_mm256_loadu_ps(in.az + i), perm));
-    const __m256 x = _mm256_permutevar8x32_ps(_mm256_loadu_ps(in.x + i), perm);
-    const __m256 y = _mm256_permutevar8x32_ps(_mm256_loadu_ps(in.y + i), perm);
-    const __m256 zi = _mm256_loadu_ps(in.z + i);
-    const __m256 z = _mm256_permutevar8x32_ps(zi, perm);
-    _mm256_storeu_pd(out.x + w, _mm256_cvtps_pd(_mm256_castps256_ps128(x)));
-    _mm256_storeu_pd(out.x + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(x, 1)));
-    _mm256_storeu_pd(out.y + w, _mm256_cvtps_pd(_mm256_castps256_ps128(y)));
-    _mm256_storeu_pd(out.y + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(y, 1)));
-    _mm256_storeu_pd(out.z + w, _mm256_cvtps_pd(_mm256_castps256_ps128(z)));
-    _mm256_storeu_pd(out.z + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(z, 1)));
-    const __m256d r0 = _mm256_loadu_pd(in.range + i), r1 = _mm256_loadu_pd(in.range + i + 4);
-    const unsigned lo = mask & 15u;
-    const __m256i p0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPairs.lane[lo]));
-    const __m256i p1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPairs.lane[mask >> 4]));
-    _mm256_storeu_ps(reinterpret_cast<float*>(out.range + w), _mm256_permutevar8x32_ps(_mm256_castpd_ps(r0), p0));
-    _mm256_storeu_ps(reinterpret_cast<float*>(out.range + w + static_cast<unsigned>(__builtin_popcount(lo))),
-                     _mm256_permutevar8x32_ps(_mm256_castpd_ps(r1), p1));
-    // grid positions in input order: w plus the valid lanes before each, -1 for the others
-    __m256i before = _mm256_add_epi32(valid, _mm256_slli_si256(valid, 4));  // minus inclusive counts
-    before = _mm256_add_epi32(before, _mm256_slli_si256(before, 8));
-    const __m256i carry = _mm256_shuffle_epi32(before, 0xFF);
-    before = _mm256_add_epi32(before, _mm256_permute2x128_si256(carry, carry, 0x08));
-    const __m256i pos = _mm256_sub_epi32(_mm256_set1_epi32(static_cast<int>(w) - 1), before);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.grid_pos + i),
-                        _mm256_blendv_epi8(_mm256_set1_epi32(-1), pos, valid));
-    // z / range of the valid lanes in column order
-    const __m256d v0 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(valid)));
-    const __m256d v1 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(valid, 1)));
-    const __m256d q0 = _mm256_and_pd(v0, _mm256_div_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(zi)), r0));
-    const __m256d q1 = _mm256_and_pd(v1, _mm256_div_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(zi, 1)), r1));
-    for (const __m256d q : {q0, q1})
-    {
-      const __m128d a = _mm256_castpd256_pd128(q), b = _mm256_extractf128_pd(q, 1);
-      s += _mm_cvtsd_f64(a);
-      s += _mm_cvtsd_f64(_mm_unpackhi_pd(a, a));
-      s += _mm_cvtsd_f64(b);
-      s += _mm_cvtsd_f64(_mm_unpackhi_pd(b, b));
-    }
-    w += static_cast<unsigned>(__builtin_popcount(mask));
-  }
-  for (; c < W; ++c)
-  {
-    const std::size_t i = i0 + c;
-    const bool ok = in.ring[i] >= 0;
-    const double z = in.z[i], r = in.range[i];
-    out.index[w] = static_cast<std::uint32_t>(i);
-    out.az[w] = in.az[i];
-    out.column[w] = static_cast<std::uint32_t>(c);
-    out.x[w] = in.x[i];
-    out.y[w] = in.y[i];
-    out.z[w] = z;
-    out.range[w] = r;
-    out.grid_pos[i] = ok ? static_cast<std::int32_t>(w) : -1;
-    if (ok) s += z / r;
-    w += ok ? 1 : 0;
-  }
-  sum = s;
-  return w;
-}
-#endif
-
 }  // namespace
 
 int ScanGrid::ringOf(std::uint32_t pos) const
@@ -237,6 +135,10 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   st = readPoints(view, params, grid);
   if (!st)
   {
+    // (readOrganized may have placed points before the ring check)
+    grid.num_rings = 0;
+    grid.ring_begin.assign(1, 0);
+    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
     grid.state.clear();
     grid.grid_pos.clear();
     return st;
@@ -244,7 +146,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(view, params, grid);
   bool gathered = false;
   if (view.organized())
-    gathered = placeOrganized(view, grid);
+    gathered = placed_ || placeOrganized(view, grid);
   else
     sortRings(grid, params.duplicate_azimuth_fraction > 0.0f);
   measureResolution(params, grid);
@@ -348,68 +250,6 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   return Status::success();
 }
 
-
-bool ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
-{
-  // Row = ring, column order = azimuth order: the sensor already gives the grid.
-  const std::size_t R = view.height, W = view.width;
-  grid.ring_begin.assign(R + 1, 0);
-#if defined(RC_SIMD_CLONES_ON)
-  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
-                    view.z.type == ScalarType::Float32;
-  if (fast && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
-  {
-    // One pass instead of three (placement, gather, positions and sums), eight columns at a
-    // time: on the OS1-128 frames they read and wrote about 11 MB, and the gather alone was
-    // ~5 % of a frame.
-    const std::size_t room = R * W + 8;  // the vector stores write up to 8 past the last point
-    tmp_index_.resize(room);
-    sorted_az_.resize(room);
-    column_.resize(room);
-    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->resize(room);
-    ring_sum_.assign(R, 0.0);
-    const OrganizedInput in{ring_of_.data(), paz_.data(), px_.data(), py_.data(), pz_.data(), prange_.data()};
-    const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), column_.data(), grid.x.data(),
-                            grid.y.data(),     grid.z.data(),     grid.range.data(), grid.grid_pos.data()};
-    std::size_t w = 0;
-    for (std::size_t r = 0; r < R; ++r)
-    {
-      w = placeRowAvx2(in, out, r * W, W, w, ring_sum_[r]);
-      grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
-    }
-    tmp_index_.resize(w);
-    sorted_az_.resize(w);
-    column_.resize(w);
-    return true;
-  }
-#endif
-  // Branch-free compaction into presized arrays (NaN-padded sensors make validity a coin toss
-  // per point): every point is written at w, only valid ones advance it.
-  tmp_index_.resize(R * W + 1);
-  sorted_az_.resize(R * W + 1);
-  column_.resize(R * W + 1);
-  std::uint32_t* const index = tmp_index_.data();
-  float* const az = sorted_az_.data();
-  std::uint32_t* const column = column_.data();
-  const std::int32_t* const ring = ring_of_.data();
-  std::size_t w = 0;
-  for (std::size_t r = 0; r < R; ++r)
-  {
-    for (std::size_t c = 0; c < W; ++c)
-    {
-      const std::size_t i = r * W + c;
-      index[w] = static_cast<std::uint32_t>(i);
-      az[w] = paz_[i];
-      column[w] = static_cast<std::uint32_t>(c);
-      w += ring[i] >= 0 ? 1 : 0;
-    }
-    grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
-  }
-  tmp_index_.resize(w);
-  sorted_az_.resize(w);
-  column_.resize(w);
-  return false;
-}
 
 void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
 {

@@ -1,0 +1,343 @@
+// The organized clouds' grid: a row is a ring and the columns are in azimuth order already, so
+// placing a row's valid points is a compaction. For float32 clouds on AVX2 CPUs the input pass
+// and the placement are one pass (readOrganized); otherwise placeOrganized places the input
+// pass's points.
+#include "ring_curvature/scan_grid.hpp"
+
+#include "compress_table.hpp"
+#include "input_avx2.hpp"
+#include "simd_clones.hpp"
+
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+#endif
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace ring_curvature
+{
+
+namespace
+{
+#if defined(RC_SIMD_CLONES_ON)
+struct OrganizedInput
+{
+  const std::int32_t* ring;
+  const float *az, *x, *y, *z;
+  const double* range;
+};
+struct OrganizedGrid
+{
+  std::uint32_t* index;
+  float* az;
+  std::uint32_t* column;
+  double *x, *y, *z, *range;
+  std::int32_t* grid_pos;
+  PointState* state;  // (written by the fused input pass only)
+};
+
+// Eight columns [c, c + 8) of a row, input indices [i, i + 8), onto the grid at w: their
+// coordinates, azimuths and ranges as read, `valid` the lanes to keep (all ones or zero). The
+// valid lanes are moved to the front by the compress table and stored whole (the arrays have
+// room for 8 past the end); the grid positions in input order; z / range of the valid lanes
+// added to `s` in column order, with +0 for the others (s never is -0, so s + 0 is s: the same
+// bits as adding the valid ones alone). Returns the number placed.
+__attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEightAvx2(
+    const OrganizedGrid& out, std::size_t i, std::size_t c, std::size_t w, __m256 x, __m256 y, __m256 z, __m256 az,
+    __m256d r0, __m256d r1, __m256i valid, double& s)
+{
+  const auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(valid)));
+  const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[mask]));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.index + w),
+                      _mm256_add_epi32(perm, _mm256_set1_epi32(static_cast<int>(i))));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.column + w),
+                      _mm256_add_epi32(perm, _mm256_set1_epi32(static_cast<int>(c))));
+  _mm256_storeu_ps(out.az + w, _mm256_permutevar8x32_ps(az, perm));
+  const __m256 xp = _mm256_permutevar8x32_ps(x, perm), yp = _mm256_permutevar8x32_ps(y, perm);
+  const __m256 zp = _mm256_permutevar8x32_ps(z, perm);
+  _mm256_storeu_pd(out.x + w, _mm256_cvtps_pd(_mm256_castps256_ps128(xp)));
+  _mm256_storeu_pd(out.x + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(xp, 1)));
+  _mm256_storeu_pd(out.y + w, _mm256_cvtps_pd(_mm256_castps256_ps128(yp)));
+  _mm256_storeu_pd(out.y + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(yp, 1)));
+  _mm256_storeu_pd(out.z + w, _mm256_cvtps_pd(_mm256_castps256_ps128(zp)));
+  _mm256_storeu_pd(out.z + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(zp, 1)));
+  const unsigned lo = mask & 15u;
+  const __m256i p0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPairs.lane[lo]));
+  const __m256i p1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPairs.lane[mask >> 4]));
+  _mm256_storeu_ps(reinterpret_cast<float*>(out.range + w), _mm256_permutevar8x32_ps(_mm256_castpd_ps(r0), p0));
+  _mm256_storeu_ps(reinterpret_cast<float*>(out.range + w + static_cast<unsigned>(__builtin_popcount(lo))),
+                   _mm256_permutevar8x32_ps(_mm256_castpd_ps(r1), p1));
+  // grid positions in input order: w plus the valid lanes before each, -1 for the others
+  __m256i before = _mm256_add_epi32(valid, _mm256_slli_si256(valid, 4));  // minus inclusive counts
+  before = _mm256_add_epi32(before, _mm256_slli_si256(before, 8));
+  const __m256i carry = _mm256_shuffle_epi32(before, 0xFF);
+  before = _mm256_add_epi32(before, _mm256_permute2x128_si256(carry, carry, 0x08));
+  const __m256i pos = _mm256_sub_epi32(_mm256_set1_epi32(static_cast<int>(w) - 1), before);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.grid_pos + i),
+                      _mm256_blendv_epi8(_mm256_set1_epi32(-1), pos, valid));
+  // z / range of the valid lanes in column order
+  const __m256d v0 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(valid)));
+  const __m256d v1 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(valid, 1)));
+  const __m256d q0 = _mm256_and_pd(v0, _mm256_div_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(z)), r0));
+  const __m256d q1 = _mm256_and_pd(v1, _mm256_div_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(z, 1)), r1));
+  for (const __m256d q : {q0, q1})
+  {
+    const __m128d a = _mm256_castpd256_pd128(q), b = _mm256_extractf128_pd(q, 1);
+    s += _mm_cvtsd_f64(a);
+    s += _mm_cvtsd_f64(_mm_unpackhi_pd(a, a));
+    s += _mm_cvtsd_f64(b);
+    s += _mm_cvtsd_f64(_mm_unpackhi_pd(b, b));
+  }
+  return static_cast<unsigned>(__builtin_popcount(mask));
+}
+
+// One row (ring) of an organized float32 cloud from the input pass's arrays, columns [0, W)
+// from input index i0, its valid points appended at w: the placement (index, azimuth, column),
+// the gather of the coordinates, the grid positions and the sum of z / range in column order,
+// which were three passes over the frame. Returns the new w.
+__attribute__((target("avx2,popcnt"))) std::size_t placeRowAvx2(const OrganizedInput& in, const OrganizedGrid& out,
+                                                                  std::size_t i0, std::size_t W, std::size_t w,
+                                                                  double& sum)
+{
+  double s = sum;
+  std::size_t c = 0;
+  for (; c + 8 <= W; c += 8)
+  {
+    const std::size_t i = i0 + c;
+    const __m256i valid = _mm256_cmpgt_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.ring + i)),
+                                             _mm256_set1_epi32(-1));
+    w += placeEightAvx2(out, i, c, w, _mm256_loadu_ps(in.x + i), _mm256_loadu_ps(in.y + i), _mm256_loadu_ps(in.z + i),
+                        _mm256_loadu_ps(in.az + i), _mm256_loadu_pd(in.range + i), _mm256_loadu_pd(in.range + i + 4),
+                        valid, s);
+  }
+  for (; c < W; ++c)
+  {
+    const std::size_t i = i0 + c;
+    const bool ok = in.ring[i] >= 0;
+    const double z = in.z[i], r = in.range[i];
+    out.index[w] = static_cast<std::uint32_t>(i);
+    out.az[w] = in.az[i];
+    out.column[w] = static_cast<std::uint32_t>(c);
+    out.x[w] = in.x[i];
+    out.y[w] = in.y[i];
+    out.z[w] = z;
+    out.range[w] = r;
+    out.grid_pos[i] = ok ? static_cast<std::int32_t>(w) : -1;
+    if (ok) s += z / r;
+    w += ok ? 1 : 0;
+  }
+  sum = s;
+  return w;
+}
+#endif
+
+
+#if defined(RC_SIMD_CLONES_ON)
+// Where a record's fields are, and the valid ranges (readOrganized).
+struct RecordLayout
+{
+  std::size_t step;
+  std::uint32_t ox, oy, oz;
+  std::int32_t oring;  // -1: no ring field
+  double rmin, rmax;
+};
+// One column of readPlaceRowAvx2, the same operations as a lane there (storePoint, fastAtan2,
+// placeRowAvx2's tail).
+inline std::size_t placeColumn(const std::uint8_t* rec, const RecordLayout& L, const OrganizedGrid& out,
+                               std::size_t i, std::size_t c, std::size_t w, double& s, std::uint32_t& largest)
+{
+  const float x = readFloat32(rec + L.ox), y = readFloat32(rec + L.oy), z = readFloat32(rec + L.oz);
+  const double dx = x, dy = y, dz = z;
+  const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const bool ok = (r >= L.rmin) & (r <= L.rmax);
+  if (L.oring >= 0)
+  {
+    std::uint16_t r16;
+    std::memcpy(&r16, rec + L.oring, sizeof r16);
+    largest = std::max<std::uint32_t>(largest, r16);
+  }
+  out.state[i] = ok ? PointState::OnGrid : PointState::Invalid;
+  out.index[w] = static_cast<std::uint32_t>(i);
+  out.az[w] = fastAtan2(y, x);
+  out.column[w] = static_cast<std::uint32_t>(c);
+  out.x[w] = dx;
+  out.y[w] = dy;
+  out.z[w] = dz;
+  out.range[w] = r;
+  out.grid_pos[i] = ok ? static_cast<std::int32_t>(w) : -1;
+  if (ok) s += dz / r;
+  return w + (ok ? 1 : 0);
+}
+
+// The input pass and the placement of one row of an organized float32 cloud in one: its
+// records [0, W) (from `row`, `step` bytes apart) read and placed on the grid at w as
+// placeRowAvx2 places them, with the per-point state and grid position. The input pass's per
+// point arrays (33 bytes a point) are neither written nor read back: on the OS1-128 frames
+// (48-byte records) the two passes moved about 160 bytes a point. Each lane computes what
+// readXyzRecordsAvx2 computes (input_avx2.hpp). Columns [0, vector_cols) go eight at a time,
+// the rest one at a time (placeColumn); `largest` takes the largest 16-bit ring field when
+// oring >= 0. Returns the new w.
+__attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::uint8_t* row, const RecordLayout& L,
+                                                                      const OrganizedGrid& out, std::size_t i0,
+                                                                      std::size_t W, std::size_t vector_cols,
+                                                                      std::size_t w, double& sum,
+                                                                      std::uint32_t& largest)
+{
+  const int st = static_cast<int>(L.step);
+  const __m256i lanes = _mm256_setr_epi32(0, st, 2 * st, 3 * st, 4 * st, 5 * st, 6 * st, 7 * st);
+  const __m256i vx = _mm256_add_epi32(lanes, _mm256_set1_epi32(static_cast<int>(L.ox)));
+  const __m256i vy = _mm256_add_epi32(lanes, _mm256_set1_epi32(static_cast<int>(L.oy)));
+  const __m256i vz = _mm256_add_epi32(lanes, _mm256_set1_epi32(static_cast<int>(L.oz)));
+  const __m256i vr = _mm256_add_epi32(lanes, _mm256_set1_epi32(std::max(L.oring, 0)));
+  const __m256d lo = _mm256_set1_pd(L.rmin), hi = _mm256_set1_pd(L.rmax);
+  const __m256i one = _mm256_set1_epi32(static_cast<int>(PointState::OnGrid));
+  __m256i most = _mm256_setzero_si256();
+  double s = sum;
+  std::size_t c = 0;
+  for (; c < vector_cols; c += 8)
+  {
+    const std::size_t i = i0 + c;
+    const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
+    const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
+                 z = _mm256_i32gather_ps(base, vz, 1);
+    __m256d r0, r1;
+    detail::rangesAvx2(x, y, z, r0, r1);
+    const __m256i valid = detail::validAvx2(r0, r1, lo, hi);
+    if (L.oring >= 0)
+      most = _mm256_max_epu32(most, _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), vr, 1),
+                                                     _mm256_set1_epi32(0xFFFF)));
+    const __m256i s32 = _mm256_and_si256(valid, one);  // OnGrid (1) or Invalid (0) per lane
+    const __m128i s16 = _mm_packs_epi32(_mm256_castsi256_si128(s32), _mm256_extracti128_si256(s32, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out.state + i), _mm_packs_epi16(s16, s16));
+    w += placeEightAvx2(out, i, c, w, x, y, z, detail::fastAtan2Avx2(y, x), r0, r1, valid, s);
+  }
+  alignas(32) std::uint32_t l[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(l), most);
+  for (const std::uint32_t v : l) largest = std::max(largest, v);
+  for (; c < W; ++c) w = placeColumn(row + c * L.step, L, out, i0 + c, c, w, s, largest);
+  sum = s;
+  return w;
+}
+#endif
+
+}  // namespace
+
+bool ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
+{
+  // Row = ring, column order = azimuth order: the sensor already gives the grid.
+  const std::size_t R = view.height, W = view.width;
+  grid.ring_begin.assign(R + 1, 0);
+#if defined(RC_SIMD_CLONES_ON)
+  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
+                    view.z.type == ScalarType::Float32;
+  if (fast && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
+  {
+    // One pass instead of three (placement, gather, positions and sums), eight columns at a
+    // time: on the OS1-128 frames they read and wrote about 11 MB, and the gather alone was
+    // ~5 % of a frame.
+    const std::size_t room = R * W + 8;  // the vector stores write up to 8 past the last point
+    tmp_index_.resize(room);
+    sorted_az_.resize(room);
+    column_.resize(room);
+    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->resize(room);
+    ring_sum_.assign(R, 0.0);
+    const OrganizedInput in{ring_of_.data(), paz_.data(), px_.data(), py_.data(), pz_.data(), prange_.data()};
+    const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), column_.data(), grid.x.data(),
+                            grid.y.data(),     grid.z.data(),     grid.range.data(), grid.grid_pos.data(), nullptr};
+    std::size_t w = 0;
+    for (std::size_t r = 0; r < R; ++r)
+    {
+      w = placeRowAvx2(in, out, r * W, W, w, ring_sum_[r]);
+      grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
+    }
+    tmp_index_.resize(w);
+    sorted_az_.resize(w);
+    column_.resize(w);
+    return true;
+  }
+#endif
+  // Branch-free compaction into presized arrays (NaN-padded sensors make validity a coin toss
+  // per point): every point is written at w, only valid ones advance it.
+  tmp_index_.resize(R * W + 1);
+  sorted_az_.resize(R * W + 1);
+  column_.resize(R * W + 1);
+  std::uint32_t* const index = tmp_index_.data();
+  float* const az = sorted_az_.data();
+  std::uint32_t* const column = column_.data();
+  const std::int32_t* const ring = ring_of_.data();
+  std::size_t w = 0;
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    for (std::size_t c = 0; c < W; ++c)
+    {
+      const std::size_t i = r * W + c;
+      index[w] = static_cast<std::uint32_t>(i);
+      az[w] = paz_[i];
+      column[w] = static_cast<std::uint32_t>(c);
+      w += ring[i] >= 0 ? 1 : 0;
+    }
+    grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
+  }
+  tmp_index_.resize(w);
+  sorted_az_.resize(w);
+  column_.resize(w);
+  return false;
+}
+
+bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& params, ScanGrid& grid,
+                                    std::uint32_t& largest)
+{
+#if defined(RC_SIMD_CLONES_ON)
+  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
+                    view.z.type == ScalarType::Float32;
+  const bool ring16 = !view.ring.present() || view.ring.type == ScalarType::UInt16;
+  // every gather offset of a group (7 steps and a field offset) must fit an int32
+  if (!fast || !ring16 || view.point_step > (1u << 26) || !__builtin_cpu_supports("avx2") ||
+      !__builtin_cpu_supports("popcnt"))
+    return false;
+  const std::size_t R = view.height, W = view.width, n = R * W;
+  grid.num_input = n;
+  grid.num_rings = static_cast<int>(R);
+  grid.state.resize(n + 8);  // the state stores write 8 bytes a group
+  grid.grid_pos.resize(n);
+  const std::size_t room = n + 8;  // the vector stores write up to 8 past the last point
+  tmp_index_.resize(room);
+  sorted_az_.resize(room);
+  column_.resize(room);
+  for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->resize(room);
+  ring_sum_.assign(R, 0.0);
+  grid.ring_begin.assign(R + 1, 0);
+  const auto offset = [](const FieldView& f) { return static_cast<std::uint32_t>(f.offset); };
+  const RecordLayout layout{view.point_step, offset(view.x), offset(view.y), offset(view.z),
+                            view.ring.present() ? static_cast<std::int32_t>(view.ring.offset) : -1,
+                            params.min_range, params.max_range};
+  const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), column_.data(), grid.x.data(),
+                          grid.y.data(),     grid.z.data(),     grid.range.data(), grid.grid_pos.data(),
+                          grid.state.data()};
+  std::size_t w = 0;
+  largest = 0;
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    // (the last record's 32-bit ring read could pass the end of the data: the last row's last
+    // group goes one column at a time)
+    const std::size_t vector_cols = (r + 1 < R || layout.oring < 0 ? W : W - 1) / 8 * 8;
+    w = readPlaceRowAvx2(view.data + r * view.row_step, layout, out, r * W, W, vector_cols, w, ring_sum_[r], largest);
+    grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
+  }
+  grid.state.resize(n);
+  tmp_index_.resize(w);
+  sorted_az_.resize(w);
+  column_.resize(w);
+  return true;
+#else
+  (void)view;
+  (void)params;
+  (void)grid;
+  (void)largest;
+  return false;
+#endif
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,76 @@
+// AVX2 kernels of the grid's input passes over float32 records (grid_input.cpp for the
+// unorganized clouds, grid_organized.cpp for the organized ones): eight points' azimuths, ranges
+// and validity, each lane the operations of the scalar code (scan_grid.hpp's fastAtan2,
+// grid_input.cpp's storePoint), so bit for bit its results.
+#pragma once
+
+#include "simd_clones.hpp"
+
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+
+namespace ring_curvature
+{
+namespace detail
+{
+
+// fastAtan2 (scan_grid.hpp) eight lanes at a time, operation for operation, so bit for bit the
+// same: the comparisons on bit patterns are signed ones here (AVX2 has no unsigned 32-bit
+// compare), which agree with the unsigned ones for these operands (|x| and |y| have a clear sign
+// bit; "x < 0" is "bits in (0x80000000, 0xff800000]", i.e. signed in (INT_MIN, -0x800000]).
+__attribute__((target("avx2"))) inline __m256 fastAtan2Avx2(__m256 y, __m256 x)
+{
+  const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u));
+  const __m256i above_inf = _mm256_set1_epi32(0x7f800001);  // bits < above_inf: not above +inf
+  const __m256i sx = _mm256_castps_si256(x), sy = _mm256_castps_si256(y);
+  const __m256i bx = _mm256_andnot_si256(sign, sx), by = _mm256_andnot_si256(sign, sy);  // |x|, |y|
+  const __m256i x_lt_y = _mm256_and_si256(_mm256_cmpgt_epi32(by, bx), _mm256_cmpgt_epi32(above_inf, by));
+  const __m256i y_lt_x = _mm256_and_si256(_mm256_cmpgt_epi32(bx, by), _mm256_cmpgt_epi32(above_inf, bx));
+  const __m256i mx = _mm256_blendv_epi8(bx, by, x_lt_y), mn = _mm256_blendv_epi8(bx, by, y_lt_x);
+  const __m256i nonzero = _mm256_and_si256(_mm256_cmpgt_epi32(mx, _mm256_setzero_si256()),
+                                           _mm256_cmpgt_epi32(above_inf, mx));
+  const __m256 one = _mm256_set1_ps(1.0f);
+  const __m256 a = _mm256_div_ps(_mm256_castsi256_ps(mn), _mm256_blendv_ps(one, _mm256_castsi256_ps(mx),
+                                                                          _mm256_castsi256_ps(nonzero)));
+  const __m256 s = _mm256_mul_ps(a, a);
+  __m256 r = _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(0.0208351f), s), _mm256_set1_ps(0.0851330f));
+  r = _mm256_add_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.1801410f));
+  r = _mm256_sub_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.3302995f));
+  r = _mm256_add_ps(_mm256_mul_ps(r, s), _mm256_set1_ps(0.9998660f));
+  r = _mm256_mul_ps(r, a);
+  r = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(1.57079637f), r), _mm256_castsi256_ps(x_lt_y));
+  const __m256i neg_limit = _mm256_set1_epi32(static_cast<int>(0xff800001u));  // bits <= 0xff800000
+  const __m256i x_neg = _mm256_and_si256(_mm256_cmpgt_epi32(sx, sign), _mm256_cmpgt_epi32(neg_limit, sx));
+  const __m256i y_neg = _mm256_and_si256(_mm256_cmpgt_epi32(sy, sign), _mm256_cmpgt_epi32(neg_limit, sy));
+  r = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(3.14159265358979f), r), _mm256_castsi256_ps(x_neg));
+  r = _mm256_blendv_ps(r, _mm256_xor_ps(r, _mm256_castsi256_ps(sign)), _mm256_castsi256_ps(y_neg));
+  return _mm256_and_ps(r, _mm256_castsi256_ps(nonzero));
+}
+
+// The 3-D ranges of four points: x, y, z widened to double, sqrt((x x + y y) + z z).
+__attribute__((target("avx2"))) inline __m256d range4Avx2(__m128 x4, __m128 y4, __m128 z4)
+{
+  const __m256d x = _mm256_cvtps_pd(x4), y = _mm256_cvtps_pd(y4), z = _mm256_cvtps_pd(z4);
+  return _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z)));
+}
+// ... of eight points, as two vectors of four doubles.
+__attribute__((target("avx2"))) inline void rangesAvx2(__m256 x, __m256 y, __m256 z, __m256d& r0, __m256d& r1)
+{
+  r0 = range4Avx2(_mm256_castps256_ps128(x), _mm256_castps256_ps128(y), _mm256_castps256_ps128(z));
+  r1 = range4Avx2(_mm256_extractf128_ps(x, 1), _mm256_extractf128_ps(y, 1), _mm256_extractf128_ps(z, 1));
+}
+
+// Valid lanes (range >= lo and range <= hi; NaN fails both) of eight points' ranges r0, r1 as
+// 32-bit masks: each half's four 64-bit masks become their low halves.
+__attribute__((target("avx2"))) inline __m256i validAvx2(__m256d r0, __m256d r1, __m256d lo, __m256d hi)
+{
+  const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+  const __m256d v0 = _mm256_and_pd(_mm256_cmp_pd(r0, lo, _CMP_GE_OQ), _mm256_cmp_pd(r0, hi, _CMP_LE_OQ));
+  const __m256d v1 = _mm256_and_pd(_mm256_cmp_pd(r1, lo, _CMP_GE_OQ), _mm256_cmp_pd(r1, hi, _CMP_LE_OQ));
+  return _mm256_set_m128i(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v1), low_halves)),
+                          _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v0), low_halves)));
+}
+
+}  // namespace detail
+}  // namespace ring_curvature
+#endif

@@ -1,0 +1,128 @@
+// Organized clouds: the one-pass input and placement of float32 clouds (readOrganized, AVX2)
+// against the generic input pass and placement, and the ring field check on that path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "../support/synthetic_cloud.hpp"
+#include "ring_curvature/pipeline.hpp"
+
+using namespace ring_curvature;
+using namespace ring_curvature::test;
+
+namespace
+{
+// Same bits (NaN payloads included) for every element of two arrays.
+template <class A, class B>
+bool sameBits(const A& a, const B& b)
+{
+  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
+}
+
+// An organized frame of `rows` x `cols`, ring 0 at the top, with NaN padding, returns below the
+// minimum range and signed zeros, written as float32 records and as the same values in float64
+// records (which take the generic input pass and placement).
+struct Frame
+{
+  SyntheticCloud f32{false}, f64{true};
+};
+Frame organizedFrame(int rows, std::size_t cols, unsigned seed)
+{
+  Frame f;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int row = 0; row < rows; ++row)
+    for (std::size_t c = 0; c < cols; ++c)
+    {
+      const int ring = rows - 1 - row;
+      const std::size_t k = static_cast<std::size_t>(row) * cols + c;
+      if (k % 7 == 3 || (row == 2 && c < 20))  // padding, scattered and in a run
+      {
+        f.f32.addNaN(ring);
+        f.f64.addNaN(ring);
+        continue;
+      }
+      const double az = 2 * 3.14159265358979 * static_cast<double>(c) / static_cast<double>(cols);
+      const double el = -0.3 + 0.6 * ring / rows;
+      const double r = k % 11 == 5 ? 0.05 : 4.0 + 2.0 * std::sin(3 * az) + 0.01 * u(rng);  // 0.05: below min_range
+      auto x = static_cast<float>(r * std::cos(el) * std::cos(az));
+      auto y = static_cast<float>(r * std::cos(el) * std::sin(az));
+      const auto z = static_cast<float>(r * std::sin(el));
+      if (k % 13 == 0) y = -0.0f;  // on the axis
+      if (k % 17 == 0) x = 0.0f;
+      f.f32.add(x, y, z, ring);
+      f.f64.add(x, y, z, ring);  // float values, exactly
+    }
+  return f;
+}
+}  // namespace
+
+// The one-pass path must give the grid the generic path gives, bit for bit: every per-position
+// and per-point array, the ring bounds and elevations, the measured resolution and the labels.
+// Widths that are and are not multiples of eight (the vector loop's tail), and one under eight.
+TEST(OrganizedGrid, OnePassMatchesTheGenericPath)
+{
+  for (const std::size_t cols : {std::size_t{256}, std::size_t{203}, std::size_t{5}})
+  {
+    const Frame f = organizedFrame(16, cols, static_cast<unsigned>(cols));
+    Pipeline fast, generic;
+    FrameResult rf, rg;
+    ASSERT_TRUE(fast.process(f.f32.view(16), rf).ok);
+    ASSERT_TRUE(generic.process(f.f64.view(16), rg).ok);
+    const ScanGrid &a = fast.grid(), &b = generic.grid();
+    ASSERT_TRUE(a.organized);
+    EXPECT_GT(a.size(), 8 * cols);
+    EXPECT_LT(a.size(), 16 * cols);
+    EXPECT_EQ(a.num_rings, b.num_rings);
+    EXPECT_EQ(a.num_input, b.num_input);
+    EXPECT_EQ(a.num_valid, b.num_valid);
+    EXPECT_TRUE(sameBits(a.ring_begin, b.ring_begin)) << cols;
+    EXPECT_TRUE(sameBits(a.ring_elevation, b.ring_elevation)) << cols;
+    EXPECT_TRUE(sameBits(a.ring_cos, b.ring_cos)) << cols;
+    EXPECT_EQ(a.azimuth_resolution, b.azimuth_resolution);
+    EXPECT_TRUE(sameBits(a.index, b.index)) << cols;
+    EXPECT_TRUE(sameBits(a.azimuth, b.azimuth)) << cols;
+    EXPECT_TRUE(sameBits(a.x, b.x)) << cols;
+    EXPECT_TRUE(sameBits(a.y, b.y)) << cols;
+    EXPECT_TRUE(sameBits(a.z, b.z)) << cols;
+    EXPECT_TRUE(sameBits(a.range, b.range)) << cols;
+    EXPECT_TRUE(sameBits(a.linked, b.linked)) << cols;
+    EXPECT_TRUE(sameBits(a.up, b.up)) << cols;
+    EXPECT_TRUE(sameBits(a.state, b.state)) << cols;
+    EXPECT_TRUE(sameBits(a.grid_pos, b.grid_pos)) << cols;
+    EXPECT_TRUE(sameBits(rf.label, rg.label)) << cols;
+    EXPECT_TRUE(sameBits(rf.curvature, rg.curvature)) << cols;
+  }
+}
+
+// A ring field at or beyond max_rings is an error naming the first such point, wherever it is
+// (read eight at a time, or the last point, which is read on its own); the grid is left empty
+// and the next good frame is processed normally.
+TEST(OrganizedGrid, RingFieldOutOfRangeNamesThePoint)
+{
+  Params params;
+  params.max_rings = 16;
+  for (const std::size_t bad : {std::size_t{37}, std::size_t{16 * 64 - 1}})
+  {
+    Frame f = organizedFrame(16, 64, 3);
+    const std::uint16_t ring = 40;
+    std::memcpy(f.f32.bytes().data() + bad * f.f32.pointStep() + 16, &ring, sizeof ring);
+    Pipeline p(params);
+    FrameResult r;
+    const Status st = p.process(f.f32.view(16), r);
+    ASSERT_FALSE(st.ok);
+    EXPECT_NE(st.message.find("point " + std::to_string(bad) + " has ring 40"), std::string::npos) << st.message;
+    EXPECT_EQ(p.grid().size(), 0u);
+    EXPECT_EQ(p.grid().x.size(), 0u);
+    EXPECT_EQ(p.grid().num_rings, 0);
+    const Frame good = organizedFrame(16, 64, 4);
+    ASSERT_TRUE(p.process(good.f32.view(16), r).ok);
+    EXPECT_EQ(r.label.size(), 16u * 64u);
+    EXPECT_GT(p.grid().size(), 8u * 64u);
+  }
+}
