@@ -77,6 +77,38 @@ __attribute__((target("avx2"))) std::size_t ringRunKeysAvx2(const std::int32_t* 
 }
 #endif
 
+#if defined(RC_SIMD_CLONES_ON)
+// The insertion sort's common case four keys at a time: while the next four in reading order
+// are ascending and above the last placed key (dst[j - 1]), they are appended as they are, which
+// is what inserting them one by one does (no key moves). Reads src[t, end) forwards or, with
+// kBackward, src[end, t) backwards from t; returns where it stopped and advances j (j > 0).
+// (Unsigned 64-bit order through signed comparisons of the keys with their top bit flipped.)
+template <bool kBackward>
+__attribute__((target("avx2"))) std::uint32_t appendAscendingAvx2(const std::uint64_t* src, std::uint32_t t,
+                                                                  std::uint32_t end, std::uint64_t* dst,
+                                                                  std::uint32_t& j)
+{
+  const __m256i flip = _mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull));
+  __m256i last = _mm256_set1_epi64x(static_cast<long long>(dst[j - 1] ^ 0x8000000000000000ull));
+  std::uint32_t w = j;
+  while (kBackward ? t >= end + 4 : t + 4 <= end)
+  {
+    // a: the four keys in memory order; b: each one's predecessor in reading order
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(src + (kBackward ? t - 4 : t)));
+    const __m256i af = _mm256_xor_si256(a, flip);
+    const __m256i b = kBackward ? _mm256_blend_epi32(_mm256_permute4x64_epi64(af, 0xF9), last, 0xC0)  // 1 2 3 last
+                                : _mm256_blend_epi32(_mm256_permute4x64_epi64(af, 0x90), last, 0x03);  // last 0 1 2
+    if (_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(af, b))) != 0xF) break;
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst + w), kBackward ? _mm256_permute4x64_epi64(a, 0x1B) : a);
+    last = _mm256_permute4x64_epi64(af, kBackward ? 0x00 : 0xFF);
+    w += 4;
+    t = kBackward ? t - 4 : t + 4;
+  }
+  j = w;
+  return t;
+}
+#endif
+
 // The sorted keys split into the input indices and the azimuths (in a clone: the baseline build
 // did it two keys at a time).
 RC_SIMD_CLONES void splitKeys(std::size_t m, const std::uint64_t* __restrict keys, std::uint32_t* __restrict index,
@@ -370,16 +402,38 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
     };
     // The reading order is the sequence rotated to start after the wrap (and reversed first when
     // mostly decreasing): read straight from src, instead of reversing and rotating it in place.
+    // (Stretches already in order are appended four keys at a time on AVX2.)
+#if defined(RC_SIMD_CLONES_ON)
+    const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
+    const auto forwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[lo], ..., src[hi - 1]
+      for (std::uint32_t i = lo; i < hi && moves < budget; ++i)
+      {
+#if defined(RC_SIMD_CLONES_ON)
+        if (avx2 && j > 0 && (i = appendAscendingAvx2<false>(src, i, hi, dst, j)) >= hi) break;
+#endif
+        insert(src[i]);
+      }
+    };
+    const auto backwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[hi - 1], ..., src[lo]
+      for (std::uint32_t t = hi; t > lo && moves < budget; --t)
+      {
+#if defined(RC_SIMD_CLONES_ON)
+        if (avx2 && j > 0 && (t = appendAscendingAvx2<true>(src, t, lo, dst, j)) <= lo) break;
+#endif
+        insert(src[t - 1]);
+      }
+    };
     if (down > k / 2)
     {
       const std::uint32_t start = wrap_bwd > 0 ? wrap_bwd - 1 : k - 1;  // reversed, then rotated
-      for (std::uint32_t i = start + 1; i-- > 0 && moves < budget;) insert(src[i]);
-      for (std::uint32_t i = k; i-- > start + 1 && moves < budget;) insert(src[i]);
+      backwards(0, start + 1);
+      backwards(start + 1, k);
     }
     else
     {
-      for (std::uint32_t i = wrap_fwd; i < k && moves < budget; ++i) insert(src[i]);
-      for (std::uint32_t i = 0; i < wrap_fwd && moves < budget; ++i) insert(src[i]);
+      forwards(wrap_fwd, k);
+      forwards(0, wrap_fwd);
     }
     if (moves < budget) return;
   }

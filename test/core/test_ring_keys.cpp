@@ -1,6 +1,7 @@
 // The sort keys of rings that come one after another (KITTI's layout), built eight at a time on
-// AVX2 machines: each ring's order must be exactly (azimuth, input index), whatever the run
-// lengths, the invalid points between them, -0 azimuths and ties.
+// AVX2 machines, and sorted with their ordered stretches appended four at a time: each ring's
+// order must be exactly (azimuth, input index), whatever the run lengths, the invalid points
+// between them, -0 azimuths and ties.
 #include <gtest/gtest.h>
 
 #include <algorithm>
