@@ -33,9 +33,8 @@ public:
 private:
   void computeRing(const ScanGrid& grid, const Params& params, int ring, Features& out);
   // scratch for one ring (sized to the largest ring, reused)
-  std::vector<double> rho_pad_;       // the ring's ranges, padded with the seam's neighbours
-  std::vector<float> rho_pad_f_;      // the same in float (the default modes)
-  std::vector<float> az_pad_;         // and azimuths
+  std::vector<float> rho_pad_f_;      // the ring's ranges in float, padded with the seam's neighbours
+  std::vector<float> az_pad_;         // and its azimuths
   std::vector<int> runs_;             // links free to the left (first K) and right (next K) of each sample
   std::vector<int> seg_;              // the ring's segments between gaps (their first samples)
   std::vector<float> jump_;           // discontinuity of each link (k - 1, k), and the seam's again

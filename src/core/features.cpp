@@ -280,35 +280,34 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
     for (int i = 0; i + 1 < num_seg; ++i) segmentRuns(seg[i], seg[i + 1], static_cast<int>(K), cap, L, Rr);
   }
 
-  // The ring's ranges and azimuths with `cap` samples of padding on each side: the neighbours
-  // of a closed ring across the seam, copies of the end samples for an open one (never used:
-  // the run lengths keep every reach inside the ring). Neighbour k + j is then rp[k + j], with
-  // no wrap-around arithmetic per access.
-  growTo(rho_pad_, K + 2 * static_cast<std::size_t>(cap));
+  // The ring's azimuths, and its ranges in float, with `cap` samples of padding on each side: the
+  // neighbours of a closed ring across the seam, copies of the end samples for an open one (never
+  // used: the run lengths keep every reach inside the ring). Neighbour k + j is then azp[k + j],
+  // with no wrap-around arithmetic per access. The double ranges are read in place (`rho`): the
+  // smoothness's windows wrap across the seam themselves (a padded double copy of every ring cost
+  // a memcpy of 8 bytes a sample, and the float conversion read that copy).
+  // The default modes' features (Chord, Jump, Detrended with small windows) run in float, eight
+  // samples a vector, on the float ranges; the other modes keep the double ranges, and so do the
+  // smoothness's prefix sums (squared ranges summed over a ring).
   growTo(az_pad_, K + 2 * static_cast<std::size_t>(cap));
-  double* const rp = rho_pad_.data() + cap;
+  growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap));
   float* const azp = az_pad_.data() + cap;
-  std::copy(rho, rho + K, rp);
+  float* const rpf = rho_pad_f_.data() + cap;
   std::copy(g.azimuth.begin() + b, g.azimuth.begin() + b + K, azp);
+  for (std::uint32_t k = 0; k < K; ++k) rpf[k] = static_cast<float>(rho[k]);
   const auto padFrom = [&](std::int64_t k) {
     return closed ? R.pos(k) : b + static_cast<std::uint32_t>(std::clamp<std::int64_t>(k, 0, K - 1));
   };
   for (std::int64_t j = 1; j <= cap; ++j)
   {
     const std::int64_t lo = -j, hi = static_cast<std::int64_t>(K) - 1 + j;
-    rp[lo] = g.range[padFrom(lo)];
+    rpf[lo] = static_cast<float>(g.range[padFrom(lo)]);
     azp[lo] = g.azimuth[padFrom(lo)];
-    rp[hi] = g.range[padFrom(hi)];
+    rpf[hi] = static_cast<float>(g.range[padFrom(hi)]);
     azp[hi] = g.azimuth[padFrom(hi)];
   }
-  // The default modes' features (Chord, Jump, Detrended with small windows) run in float, eight
-  // samples a vector, on a float copy of the padded ranges; the other modes keep the double
-  // ranges, and so do the smoothness's prefix sums (squared ranges summed over a ring).
   const bool chord_mode = P.curvature_mode == CurvatureMode::Chord;
   const bool jump_mode = P.discontinuity_mode == DiscontinuityMode::Jump;
-  growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap));
-  float* const rpf = rho_pad_f_.data() + cap;
-  for (std::int64_t j = -cap; j < static_cast<std::int64_t>(K) + cap; ++j) rpf[j] = static_cast<float>(rp[j]);
 
   // Local development of a neighbour j around vertex k: coordinates of w_j with w_k = (rho_k, 0).
   const bool exact = !chord_mode;
@@ -418,7 +417,7 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
 
   // Smoothness over a window of +-w samples (smoothness.cpp).
   growTo(prefix_, smoothnessScratch(static_cast<int>(K), P.smoothness_window, closed));
-  ringSmoothness(static_cast<int>(K), P.smoothness_window, closed, P.smoothness_mode == SmoothnessMode::Detrended, rp,
+  ringSmoothness(static_cast<int>(K), P.smoothness_window, closed, P.smoothness_mode == SmoothnessMode::Detrended, rho,
                  rpf, L, Rr, seg, num_seg, prefix_.data(), out.smoothness.data() + b);
 }
 

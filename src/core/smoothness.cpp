@@ -10,6 +10,7 @@
 #endif
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -22,6 +23,21 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // The largest smoothness_window that Params::validate lets through.
 constexpr int kMaxWindow = 256;
+
+// Range of ring sample i, i in [-K - 1, 2K] (a window's reach across the seam of a closed ring; an
+// open ring's windows stay inside it). One add or subtract wraps it; `%` is the fallback for rings
+// shorter than the reach (the same positions as ScanGrid neighbours across the seam).
+inline double wrappedRange(const double* rho, int K, std::ptrdiff_t i)
+{
+  if (i < 0) i += K;
+  else if (i >= K) i -= K;
+  if (i < 0 || i >= K)
+  {
+    i %= K;
+    if (i < 0) i += K;
+  }
+  return rho[i];
+}
 
 // 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
 // (sum (j - jbar)^2 over consecutive j is (cnt^2 - 1) cnt / 12).
@@ -202,7 +218,9 @@ template <class WindowVar>
 [[gnu::always_inline]] inline void nearGapSmoothness(int K, int w, int ext, const int* seg, int num_seg, const int* L,
                                                      const int* R, float* out, const WindowVar& windowVar, bool detrend)
 {
-  const auto nearGap = [&](std::uint32_t k) {
+  // Inlined by force: out of line, it is a plain x86-64 function called from ringSmoothness's
+  // AVX2 / AVX-512 clones, and the calls cost the feature stage 1.8 times its time (ab_core).
+  const auto nearGap = [&](std::uint32_t k) __attribute__((always_inline)) {
     const int a = std::min(w, L[k]), z = std::min(w, R[k]);  // reach of the window, left / right
     const std::size_t c0 = k + static_cast<std::size_t>(ext);
     const std::size_t lo = c0 - static_cast<std::size_t>(a);
@@ -233,6 +251,28 @@ template <class WindowVar>
   }
 }
 
+// Sums over a window of n ranges at(0) .. at(n - 1), relative to its first: of the differences,
+// of their products with the centred index, and of their squares (the near-gap windows in double).
+template <class At>
+[[gnu::always_inline]] inline void windowSums(std::size_t n, double& s0, double& s1, double& s2, At at)
+{
+  const double ref = at(0), jbar = 0.5 * static_cast<double>(n - 1);
+  s0 = s1 = s2 = 0;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    const double d = at(j) - ref;
+    s0 += d;
+    s1 += (static_cast<double>(j) - jbar) * d;
+    s2 += d * d;
+  }
+}
+// The same for a window of ring samples first .. first + n - 1 across the seam of a closed ring.
+[[gnu::always_inline]] inline void seamWindowSums(const double* rho, int K, std::ptrdiff_t first, std::size_t n, double& s0,
+                                      double& s1, double& s2)
+{
+  windowSums(n, s0, s1, s2, [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
+}
+
 inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, const double* S0, const double* S1,
                                  const double* S2, float* out)
 {
@@ -243,7 +283,7 @@ inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, con
 }
 }  // namespace
 
-RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rp,
+RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rho,
                                         const float* rpf, const int* L, const int* R, const int* seg, int num_seg,
                                         double* prefix, float* out)
 {
@@ -267,18 +307,17 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
     // The default mode's small windows: each from its own samples (directSmoothness), those of
     // the samples near a gap in double, relative to the window's first sample (same reason).
     directSmoothness(K, w, rpf, out);
-    const double* const rs = rp - ext;
     // (Windows of at most 2 kMaxDirect + 1 samples: the tables above hold their factors.)
     nearGapSmoothness(K, w, ext, seg, num_seg, L, R, out, [&](std::size_t lo, std::size_t hi) {
-      const double ref = rs[lo], jbar = 0.5 * static_cast<double>(hi - lo - 1);
-      double s0 = 0, s1 = 0, s2 = 0;
-      for (std::size_t j = lo; j < hi; ++j)
-      {
-        const double d = rs[j] - ref;
-        s0 += d;
-        s1 += (static_cast<double>(j - lo) - jbar) * d;
-        s2 += d * d;
-      }
+      // Extended index j is ring sample j - ext: the window's ranges in place, or, where it
+      // reaches across the seam of a closed ring (rare), wrapped one by one.
+      const std::ptrdiff_t first = static_cast<std::ptrdiff_t>(lo) - ext;
+      const std::size_t n_win = hi - lo;
+      double s0, s1, s2;
+      if (first >= 0 && first + static_cast<std::ptrdiff_t>(n_win) <= K)
+        windowSums(n_win, s0, s1, s2, [rs = rho + first](std::size_t j) { return rs[j]; });
+      else
+        seamWindowSums(rho, K, first, n_win, s0, s1, s2);
       return residualVariance(s0, s1, s2, inv_cnt_table[hi - lo], inv_trend_table[hi - lo]);
     }, true);
     return;
@@ -293,11 +332,23 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
   S0[0] = S1[0] = S2[0] = 0.0;
   {
     // Running sums in registers (the same additions in the same order): read back from the
-    // arrays, which may alias rp as far as the compiler knows, each step waited on the store
+    // arrays, which may alias rho as far as the compiler knows, each step waited on the store
     // of the one before (15 % of computeRing under perf).
     // The index as a double counter (exact: E < 2^53), not converted from size_t per step.
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, ed = 0.0;
-    const double* const rs = rp - ext;  // the seam extensions are in the padding
+    // An open ring's ranges are summed in place; a closed ring's with w neighbours across the
+    // seam on each side, copied after the sums' arrays.
+    const double* rs = rho;
+    if (ext > 0)
+    {
+      double* const pad = S2 + (E + 1);
+      const std::size_t x = static_cast<std::size_t>(ext);
+      for (std::size_t e = 0; e < x; ++e) pad[e] = wrappedRange(rho, K, static_cast<std::ptrdiff_t>(e) - ext);
+      std::copy(rho, rho + K, pad + x);
+      for (std::size_t e = x + static_cast<std::size_t>(K); e < E; ++e)
+        pad[e] = wrappedRange(rho, K, static_cast<std::ptrdiff_t>(e) - ext);
+      rs = pad;
+    }
     std::size_t e = 0;
 #if defined(__SSE2__)
     // Two samples a step, each array's two sums stored by one 16-byte store: the three stores a
