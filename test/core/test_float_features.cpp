@@ -26,15 +26,16 @@ double wrap(double a) { return a >= kPi ? a - 2 * kPi : (a < -kPi ? a + 2 * kPi 
 // Closed rings of 1800 samples, 0.2 deg apart, around an irregular room of mean range `r0`: a
 // wavy wall with a depth step and a few centimetres of deterministic roughness; ring 1 lies on a
 // cone (elevation about -15 deg) so that the development factor is not 1. With `gaps`, holes of
-// 1 to 6 missing samples (those of 3 or more break the ring's curve).
-SyntheticCloud roomRings(double r0, bool gaps = false)
+// 1 to 6 missing samples (those of 3 or more break the ring's curve), their pattern shifted by
+// `shift` samples (448 puts a gap of three right after the seam).
+SyntheticCloud roomRings(double r0, bool gaps = false, int shift = 0)
 {
   SyntheticCloud cloud;  // float32, the drivers' type
   const int n = 1800;
   for (int ring = 0; ring < 2; ++ring)
     for (int j = 0; j < n; ++j)
     {
-      if (gaps && j % 150 < (j / 150) % 7) continue;
+      if (gaps && (j + shift) % 150 < ((j + shift) / 150) % 7) continue;
       const double th = -kPi + 2 * kPi * (j + 0.25) / n;
       double rho = r0 * (1.0 + 0.3 * std::sin(3 * th) + (j % 400 < 200 ? 0.0 : 0.08));
       rho += 0.004 * r0 * std::sin(j * 2.3) * std::cos(j * 0.7);
@@ -131,9 +132,11 @@ double detrendedVariance(const ScanGrid& g, int b0, int K, int a, int b)
 // itself, eps (m^2 + m rho). Sums of the ranges themselves in float would be off by ~eps rho^2.
 TEST(FloatFeatures, DetrendedSmoothnessMatchesDouble)
 {
+  // shift 448: near-gap windows that reach across the seam (the ranges wrapped one by one)
+  for (const int shift : {0, 448})
   for (const double r0 : {0.5, 3.0, 20.0, 80.0, 200.0})
   {
-    const SyntheticCloud cloud = roomRings(r0, true);
+    const SyntheticCloud cloud = roomRings(r0, true, shift);
     Params params;
     params.max_range = 300.0f;
     Pipeline pipe(params);
@@ -142,7 +145,7 @@ TEST(FloatFeatures, DetrendedSmoothnessMatchesDouble)
     const ScanGrid& g = pipe.grid();
     const int w = params.smoothness_window;
     double worst = 0;
-    int near_gap = 0;
+    int near_gap = 0, across_seam = 0;
     for (int ring = 0; ring < g.num_rings; ++ring)
     {
       const int b0 = static_cast<int>(g.ring_begin[ring]), K = static_cast<int>(g.ringSize(ring));
@@ -154,6 +157,7 @@ TEST(FloatFeatures, DetrendedSmoothnessMatchesDouble)
         while (a < w && linked(k - a)) ++a;
         while (z < w && linked(k + z + 1)) ++z;
         near_gap += a < w || z < w;
+        across_seam += (a < w || z < w) && (k - a < 0 || k + z >= K);
         if (a + z == 0) continue;
         double want = detrendedVariance(g, b0, K, k - a, k + z);
         if (a >= 2) want = std::min(want, detrendedVariance(g, b0, K, k - a, k));
@@ -164,8 +168,14 @@ TEST(FloatFeatures, DetrendedSmoothnessMatchesDouble)
         worst = std::max(worst, std::fabs(pipe.features().smoothness[b0 + k] - want) / unit);
       }
     }
-    std::printf("r0 %6.1f m: %d samples near a gap; largest smoothness deviation %.2f eps units\n", r0, near_gap, worst);
+    std::printf("shift %d, r0 %6.1f m: %d samples near a gap, %d across the seam; largest smoothness deviation "
+                "%.2f eps units\n",
+                shift, r0, near_gap, across_seam, worst);
     EXPECT_GT(near_gap, 50) << "r0 " << r0;
+    if (shift != 0)
+    {
+      EXPECT_GT(across_seam, 0) << "r0 " << r0;
+    }
     EXPECT_LT(worst, 8.0) << "r0 " << r0;
   }
 }
