@@ -267,8 +267,8 @@ template <class At>
   }
 }
 // The same for a window of ring samples first .. first + n - 1 across the seam of a closed ring.
-[[gnu::always_inline]] inline void seamWindowSums(const double* rho, int K, std::ptrdiff_t first, std::size_t n, double& s0,
-                                      double& s1, double& s2)
+[[gnu::always_inline]] inline void seamWindowSums(const double* rho, int K, std::ptrdiff_t first, std::size_t n,
+                                                  double& s0, double& s1, double& s2)
 {
   windowSums(n, s0, s1, s2, [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
 }
