@@ -7,7 +7,8 @@
 // LAST output is "callback entry to last publish" plus two intra-process hand-offs (queue ->
 // manager thread, publish -> this process's spinner), so it bounds the callback from above. The
 // nodelet's own ~frame_stats gives the callback's time itself (entry to last publish, steady
-// clock) and its split into the core and the message building; those are reported too.
+// clock) and its split into the core and the message building, and the core's stages (to set
+// beside `benchmark`'s, run on the same bag); those are reported too.
 // The LAST line is key=value pairs: frames=… points=… nodelet_ms=… nodelet_p90_ms=… callback_ms=…
 // callback_p90_ms=… core_ms=… messages_ms=…
 #include <nodelet/loader.h>
@@ -169,6 +170,8 @@ int main(int argc, char** argv)
   }
 
   std::vector<double> latency, callback, core, messages;
+  // the core's stages as the nodelet timed them (~frame_stats), to set beside `benchmark`'s
+  std::vector<double> stage[6];
   int lost = 0;
   for (int r = -1; r < repeat; ++r)  // r = -1: untimed warm-up pass
   {
@@ -197,6 +200,9 @@ int main(int argc, char** argv)
         core.push_back(st.grid_ms + st.features_ms + st.thresholds_ms + st.classification_ms + st.primitives_ms +
                        st.core_output_ms);
         messages.push_back(st.messages_ms);
+        const float times[6] = {st.grid_ms,           st.features_ms,   st.thresholds_ms,
+                                st.classification_ms, st.primitives_ms, st.core_output_ms};
+        for (int k = 0; k < 6; ++k) stage[k].push_back(times[k]);
       }
     }
   }
@@ -219,6 +225,11 @@ int main(int argc, char** argv)
               ring_curvature::bench::quantile(callback, 1.0));
   std::printf("    of which core (grid .. output) median %.3f, output messages median %.3f\n",
               ring_curvature::bench::median(core), ring_curvature::bench::median(messages));
+  std::printf("    core stages, medians: grid %.3f, features %.3f, thresholds %.3f, classification %.3f, "
+              "primitives %.3f, output %.3f\n",
+              ring_curvature::bench::median(stage[0]), ring_curvature::bench::median(stage[1]),
+              ring_curvature::bench::median(stage[2]), ring_curvature::bench::median(stage[3]),
+              ring_curvature::bench::median(stage[4]), ring_curvature::bench::median(stage[5]));
   std::printf("frames=%zu points=%.0f nodelet_ms=%.4f nodelet_p90_ms=%.4f callback_ms=%.4f callback_p90_ms=%.4f "
               "core_ms=%.4f messages_ms=%.4f\n",
               clouds.size(), mean_points, ring_curvature::bench::median(latency),
