@@ -147,31 +147,31 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
     if (u == K - 1 && u + 1 < end && !(isFeature(lab[K - 1]) && isFeature(lab[0]) && linked[0])) ++u;
     if (u >= K && u + 1 < end) u = K + nextPair(lab, linked, u - K, end - 1 - K);
     if (u + 1 >= end) break;
-    // the run [u, v)
+    // The run [u, v), walked once: its Edges become Planes as it goes, and the peak found on the
+    // way is put back after (unless the run touches a Corner: a run touching a Corner is the
+    // jump's own footprint, and the Corner already marks it). The peak is the first largest turn
+    // among the run's Edges (none when every turn is NaN). One loop, not three (the run's end,
+    // its peak, the labels), each of whose exits mispredicted; branch-free inside, as Edges and
+    // Corners, and the turns within a run, come in no predictable order.
+    bool touches_corner = false;
+    std::uint32_t arg = K;
+    float best = -1.0f;
+    const auto visit = [&](std::uint32_t k) {
+      const bool corner = lab[k] == Label::Corner, better = !corner && turning[k] > best;
+      touches_corner |= corner;
+      best = better ? turning[k] : best;
+      arg = better ? k : arg;
+      lab[k] = corner ? Label::Corner : Label::Plane;  // a feature: an Edge or a Corner
+    };
+    visit(at(u));
     std::uint32_t v = u + 1;
     for (; v < end; ++v)
     {
       const std::uint32_t k = at(v);
       if (!isFeature(lab[k]) || !linked[k] || (!closed && k == 0)) break;
+      visit(k);
     }
-    // (branch-free: Edges and Corners, and the turns within a run, come in no predictable order)
-    bool touches_corner = false;
-    std::uint32_t arg = K;
-    float best = -1.0f;
-    for (std::uint32_t w = u; w < v; ++w)
-    {
-      const std::uint32_t k = at(w);
-      const bool corner = lab[k] == Label::Corner, better = !corner && turning[k] > best;
-      touches_corner |= corner;
-      best = better ? turning[k] : best;
-      arg = better ? k : arg;
-    }
-    // a run touching a Corner is the jump's own footprint: the Corner already marks it
-    for (std::uint32_t w = u; w < v; ++w)
-    {
-      const std::uint32_t k = at(w);
-      lab[k] = lab[k] == Label::Edge && (k != arg || touches_corner) ? Label::Plane : lab[k];
-    }
+    if (!touches_corner && arg != K) lab[arg] = Label::Edge;
     u = v;
   }
 }
