@@ -164,13 +164,11 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
       lab[k] = corner ? Label::Corner : Label::Plane;  // a feature: an Edge or a Corner
     };
     visit(at(u));
+    // Up to the seam, then past it (an open ring's walk ends at the seam: end = K there).
     std::uint32_t v = u + 1;
-    for (; v < end; ++v)
-    {
-      const std::uint32_t k = at(v);
-      if (!isFeature(lab[k]) || !linked[k] || (!closed && k == 0)) break;
-      visit(k);
-    }
+    for (const std::uint32_t seam = std::min(end, K); v < seam && isFeature(lab[v]) && linked[v]; ++v) visit(v);
+    if (v >= K)
+      for (; v < end && isFeature(lab[v - K]) && linked[v - K]; ++v) visit(v - K);
     if (!touches_corner && arg != K) lab[arg] = Label::Edge;
     u = v;
   }
