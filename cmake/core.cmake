@@ -16,6 +16,7 @@ add_library(ring_curvature_core
   src/core/thresholds.cpp
   src/core/primitives.cpp
   src/core/primitive_sums.cpp
+  src/core/primitive_runs.cpp
   src/core/pipeline.cpp)
 target_include_directories(ring_curvature_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
 target_compile_options(ring_curvature_core PRIVATE ${RC_WARNINGS})

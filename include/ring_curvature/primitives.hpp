@@ -62,6 +62,7 @@ private:
   UninitializedVector<std::uint32_t> grid_size_; // grid points per root, then per primitive id
   UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component (none if unwanted)
   UninitializedVector<std::uint32_t> dup_rank_; // points of that component before the duplicate
+  UninitializedVector<std::uint32_t> run_begins_, run_ends_;  // a ring's runs as cutRingAvx2 lists them
   UninitializedVector<std::uint32_t> slot_pos_;  // grid position of each entry of PrimitiveSet::indices
 };
 

@@ -3,6 +3,7 @@
 // recursion.
 #include "ring_curvature/primitives.hpp"
 
+#include "primitive_runs.hpp"
 #include "primitive_sums.hpp"
 #include "simd_clones.hpp"
 
@@ -290,12 +291,14 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // at most one run per position; num_runs counts the ones in use. Id m (none): the unwanted
   // labels' positions, one more entry in parent and comp.
   parent_.resize(m + 1);
-  run_.resize(m);
+  run_.resize(m + 8);  // (cutRingAvx2 writes up to 7 entries past a ring, reads join 8 past it)
   runs_.resize(m);
   comp_.resize(m + 1);
   roots_.resize(m);
   grid_size_.resize(m);
-  join_.resize(m);
+  join_.resize(m + 16);
+  run_begins_.resize(m + 8);
+  run_ends_.resize(m + 8);
 
   // a table: this is asked once or more per grid position in every loop below. Lambdas in the
   // loops capture by value: through a reference capture the compiler read the captured locals
@@ -352,7 +355,13 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     if (b < e)
     {
       angularJoins(b, e, lab, linked, range, azimuth, num_wanted, range_ratio, range_min, az_tol, join);
-      num_runs = cutRing(b, e, lab, join, want, none, parent, run, comp, runs, num_runs);
+#if defined(RC_SIMD_CLONES_ON)
+      if (avx2)
+        num_runs = cutRingAvx2(b, e, lab, join, num_wanted, none, parent, run, comp, runs, num_runs,
+                               run_begins_.data(), run_ends_.data());
+      else
+#endif
+        num_runs = cutRing(b, e, lab, join, want, none, parent, run, comp, runs, num_runs);
     }
     // the seam: (n, K-1) and (n, 0); the ring's runs are all roots still
     if (e - b >= 2)

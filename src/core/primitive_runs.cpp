@@ -1,0 +1,102 @@
+// cutRing's AVX2 form (see primitive_runs.hpp).
+#include "primitive_runs.hpp"
+
+#include "compress_table.hpp"
+#include "simd_clones.hpp"
+
+#include <cstring>
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+#endif
+
+namespace ring_curvature
+{
+
+#if defined(RC_SIMD_CLONES_ON)
+namespace
+{
+// For each 8-bit mask, lane l: how many of lanes 0 to l are set (an inclusive prefix count)
+struct PrefixTable
+{
+  std::int32_t lane[256][8];
+};
+constexpr PrefixTable makePrefixTable()
+{
+  PrefixTable t{};
+  for (int mask = 0; mask < 256; ++mask)
+    for (int l = 0, c = 0; l < 8; ++l)
+    {
+      c += (mask >> l) & 1;
+      t.lane[mask][l] = c;
+    }
+  return t;
+}
+constexpr PrefixTable kPrefix = makePrefixTable();
+}  // namespace
+
+// The scalar cutRing loops once per run, and the end of a run (its length is data) is a
+// mispredicted branch, about one a run. Here no branch depends on the data: a position's run id
+// is the number of wanted runs opened up to it (a prefix count of the run starts in each group
+// of eight, from a table), and the runs' begins and ends are listed by left-packing (the
+// compress table). A run starts where join is 0 (and at b: join[b] is not written); a run of
+// a wanted label ends where the next position starts a run, or at e. Every position of an
+// unwanted label is a run of its own (join needs a wanted label), so its run id is `none`.
+__attribute__((target("avx2,popcnt"))) std::size_t cutRingAvx2(
+    std::uint32_t b, std::uint32_t e, const Label* lab, const std::uint8_t* join, std::uint8_t num_wanted,
+    std::uint32_t none, std::uint32_t* parent, std::uint32_t* run, std::int32_t* comp,
+    PrimitiveExtractor::Run* runs, std::size_t num_runs, std::uint32_t* begins, std::uint32_t* ends)
+{
+  const __m128i zero = _mm_setzero_si128(), above = _mm_set1_epi8(static_cast<char>(num_wanted + 1));
+  const __m256i none8 = _mm256_set1_epi32(static_cast<int>(none));
+  std::size_t nb = 0, ne = 0;
+  auto last = static_cast<std::int32_t>(num_runs) - 1;  // the id of the last wanted run opened
+  for (std::uint32_t p = b; p < e; p += 8)
+  {
+    const std::uint32_t left = e - p;
+    // the labels are the caller's array: not read past e (join is ours, padded)
+    // (a copy of variable length went through the stack: a stalled reload every group)
+    __m128i l8 = zero;
+    if (left >= 8)
+      l8 = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(lab + p));
+    else
+      std::memcpy(&l8, lab + p, left);
+    const __m128i j8 = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(join + p));
+    const __m128i jn = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(join + p + 1));
+    const unsigned valid = left >= 8 ? 0xFFu : (1u << left) - 1;
+    // wanted: 0 < label < num_wanted + 1 (labels are 0 to 4: signed byte compares hold)
+    const __m128i w = _mm_and_si128(_mm_cmpgt_epi8(l8, zero), _mm_cmpgt_epi8(above, l8));
+    const unsigned W = static_cast<unsigned>(_mm_movemask_epi8(w)) & valid;
+    unsigned S = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(j8, zero))) & 0xFFu;
+    unsigned N = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(jn, zero))) & 0xFFu;
+    S |= p == b ? 1u : 0u;
+    N |= left <= 8 ? 1u << (left - 1) : 0u;  // e - 1 ends its run (join[e] is another ring's)
+    const unsigned ws = S & W, we = N & W;
+    const __m256i prefix = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPrefix.lane[ws]));
+    const __m256i ids = _mm256_add_epi32(prefix, _mm256_set1_epi32(last));
+    const __m256i wanted = _mm256_cvtepi8_epi32(w);  // all ones where wanted
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(run + p), _mm256_blendv_epi8(none8, ids, wanted));
+    const __m256i pos = _mm256_set1_epi32(static_cast<int>(p));
+    const __m256i bo = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[ws]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(begins + nb), _mm256_add_epi32(bo, pos));
+    const __m256i eo = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[we]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(ends + ne),
+                        _mm256_add_epi32(eo, _mm256_add_epi32(pos, _mm256_set1_epi32(1))));
+    const auto opened = static_cast<std::size_t>(__builtin_popcount(ws));
+    nb += opened;
+    ne += static_cast<std::size_t>(__builtin_popcount(we));
+    last += static_cast<std::int32_t>(opened);
+  }
+  // (nb == ne: every wanted run has one start and one end)
+  for (std::size_t i = 0; i < nb; ++i)
+  {
+    const std::size_t k = num_runs + i;
+    runs[k].begin = begins[i];
+    runs[k].end = ends[i];
+    parent[k] = static_cast<std::uint32_t>(k);
+    comp[k] = 0;
+  }
+  return num_runs + nb;
+}
+#endif
+
+}  // namespace ring_curvature
