@@ -97,6 +97,52 @@ __attribute__((target("avx2,popcnt"))) std::size_t cutRingAvx2(
   }
   return num_runs + nb;
 }
+
+// The index fill of extract (primitives.cpp: its plain loop says what is written) with AVX2:
+// eight positions a step, the last step of a run or gap with masked loads and stores, so that
+// a run of up to eight positions (most of them) takes one step and no branch on its length,
+// where the plain loop took a branch on the length and one at the end of each loop.
+__attribute__((target("avx2"))) void fillRunsAvx2(const PrimitiveExtractor::Run* runs, std::size_t num_runs,
+                                                  const std::uint32_t* parent, const std::int32_t* comp,
+                                                  const std::uint32_t* ring_begin, PrimitiveInfo* prims,
+                                                  const std::uint32_t* index, std::uint32_t* indices,
+                                                  std::uint32_t* slot_pos, std::int32_t* of_grid, std::uint32_t m)
+{
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), gap = _mm256_set1_epi32(-1);
+  // (macros: a lambda does not take the function's target, and its vectors would change the ABI)
+  // the lanes below `left` (left > 0)
+#define RC_BELOW(left) _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>((left) < 8 ? (left) : 8)), lane)
+#define RC_FILL_GAP(from, end)                                                                        \
+  for (std::uint32_t p = (from); p < (end); p += 8) _mm256_maskstore_epi32(of_grid + p, RC_BELOW((end) - p), gap)
+  int n = 0;
+  std::uint32_t written = 0;
+  for (std::size_t k = 0; k < num_runs; ++k)
+  {
+    const std::uint32_t s = runs[k].begin, t = runs[k].end;
+    const std::int32_t id = comp[parent[k]];
+    if (id < 0) continue;
+    RC_FILL_GAP(written, s);
+    written = t;
+    while (s >= ring_begin[n + 1]) ++n;
+    PrimitiveInfo& pr = prims[id];
+    if (runs[k].rank == 0) pr.ring_min = static_cast<std::uint16_t>(n);
+    pr.ring_max = static_cast<std::uint16_t>(n);
+    const std::uint32_t slot = pr.first + runs[k].rank, len = t - s;
+    const __m256i ids = _mm256_set1_epi32(id);
+    for (std::uint32_t o = 0; o < len; o += 8)
+    {
+      const __m256i mask = RC_BELOW(len - o);
+      const __m256i v = _mm256_maskload_epi32(reinterpret_cast<const int*>(index + s + o), mask);
+      _mm256_maskstore_epi32(reinterpret_cast<int*>(indices + slot + o), mask, v);
+      _mm256_maskstore_epi32(reinterpret_cast<int*>(slot_pos + slot + o), mask,
+                             _mm256_add_epi32(lane, _mm256_set1_epi32(static_cast<int>(s + o))));
+      _mm256_maskstore_epi32(of_grid + s + o, mask, ids);
+    }
+  }
+  RC_FILL_GAP(written, m);
+#undef RC_FILL_GAP
+#undef RC_BELOW
+}
 #endif
 
 }  // namespace ring_curvature

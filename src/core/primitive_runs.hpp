@@ -20,6 +20,12 @@ std::size_t cutRingAvx2(std::uint32_t b, std::uint32_t e, const Label* lab, cons
                         std::uint8_t num_wanted, std::uint32_t none, std::uint32_t* parent, std::uint32_t* run,
                         std::int32_t* comp, PrimitiveExtractor::Run* runs, std::size_t num_runs,
                         std::uint32_t* begins, std::uint32_t* ends);
+
+/// extract's index fill (indices, slot_pos, of_grid, the primitives' rings) with AVX2.
+void fillRunsAvx2(const PrimitiveExtractor::Run* runs, std::size_t num_runs, const std::uint32_t* parent,
+                  const std::int32_t* comp, const std::uint32_t* ring_begin, PrimitiveInfo* prims,
+                  const std::uint32_t* index, std::uint32_t* indices, std::uint32_t* slot_pos, std::int32_t* of_grid,
+                  std::uint32_t m);
 #endif
 
 }  // namespace ring_curvature

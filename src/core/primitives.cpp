@@ -458,6 +458,12 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   const double* const gx = g.x.data();
   const double* const gy = g.y.data();
   const double* const gz = g.z.data();
+#if defined(RC_SIMD_CLONES_ON)
+  if (avx2)
+    fillRunsAvx2(runs, num_runs, parent, comp, ring_begin, prims, index, indices, slot_pos, of_grid,
+                 static_cast<std::uint32_t>(m));
+  else
+#endif
   {
     using U4 = std::uint32_t __attribute__((vector_size(16)));
     int n = 0;
