@@ -2,6 +2,7 @@
 // no feature reaches across a gap, and a closed ring wraps across the 0/360 deg seam.
 #include "ring_curvature/features.hpp"
 
+#include "angles.hpp"
 #include "grow.hpp"
 #include "simd_clones.hpp"
 #include "smoothness.hpp"
@@ -17,18 +18,6 @@ namespace ring_curvature
 namespace
 {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr double kPiD = 3.14159265358979323846;
-
-// Selections rather than branches, so loops calling it can be vectorized (with
-// -fno-trapping-math the compiler may form both sides). Float in chord mode (eight lanes).
-template <class T>
-inline T wrapPi(T a)
-{
-  const T pi = static_cast<T>(kPiD), two_pi = static_cast<T>(2 * kPiD);
-  a = a >= pi ? a - two_pi : a;
-  a = a < -pi ? a + two_pi : a;
-  return a;
-}
 
 // sin / cos of the small angles between ring neighbours (|a| < 0.2 rad almost always): a
 // Taylor polynomial is exact to ~1e-12 there and far cheaper than the libm calls.

@@ -3,6 +3,7 @@
 // cloud has no ring field.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "angles.hpp"
 #include "input_avx2.hpp"
 #include "prefetch.hpp"
 #include "record_read.hpp"
@@ -22,7 +23,6 @@ namespace ring_curvature
 
 namespace
 {
-constexpr float kPi = 3.14159265358979f;
 
 // The input pass's entries for point i: its range decides validity (NaN and inf fail both
 // comparisons); the entries of invalid points are written too (x / y / z then hold values

@@ -2,6 +2,7 @@
 // found in one pass over the spacings with a bracket from a sample.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "angles.hpp"
 #include "compress_table.hpp"
 #include "grow.hpp"
 #include "simd_clones.hpp"
@@ -21,16 +22,7 @@ namespace ring_curvature
 
 namespace
 {
-constexpr float kPi = 3.14159265358979f;
-constexpr float kTwoPi = 6.28318530717959f;
 constexpr float kDeg = kPi / 180.0f;
-
-float wrapPi(float a)
-{
-  if (a >= kPi) a -= kTwoPi;
-  if (a < -kPi) a += kTwoPi;
-  return a;
-}
 
 // The spacings |wrapPi(az[p] - az[p - 1])| of a ring (b, e) to out[0, e - b - 1); organized
 // clouds per column between the two samples.

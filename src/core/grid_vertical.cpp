@@ -3,6 +3,7 @@
 // row up for organized ones.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "angles.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -17,8 +18,6 @@ namespace ring_curvature
 
 namespace
 {
-constexpr float kPi = 3.14159265358979f;
-constexpr float kTwoPi = 6.28318530717959f;
 
 // The nearest sample above each position p of a ring (b, e), with up[p] the last sample of the
 // ring above (ub, ue) at or before p's azimuth (or ub): of up[p], its successor (around the
@@ -28,17 +27,14 @@ constexpr float kTwoPi = 6.28318530717959f;
 RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t ub, std::uint32_t ue,
                                  const float* __restrict az, std::int32_t* __restrict up)
 {
-  const auto circDist = [](float d) {
-    const float a = std::fabs(d);
-    return a > kPi ? kTwoPi - a : a;
-  };
   const float last = az[ue - 1];
   for (std::uint32_t p = b; p < e; ++p)
   {
     const float a = az[p];
     const std::uint32_t q = static_cast<std::uint32_t>(up[p]);
     const std::uint32_t c1 = q + 1 < ue ? q + 1 : ub;
-    const float d0 = circDist(az[q] - a), d1 = circDist(az[c1] - a), d2 = circDist(last - a);
+    const float d0 = circularDistance(az[q] - a), d1 = circularDistance(az[c1] - a),
+                d2 = circularDistance(last - a);
     std::uint32_t best = d1 < d0 ? c1 : q;
     const float bd = d1 < d0 ? d1 : d0;
     best = d2 < bd ? ue - 1 : best;
@@ -72,7 +68,7 @@ void verticalWalk(const float* az, std::int32_t* up, VerticalStream& s, std::uin
 }
 
 #if defined(RC_SIMD_CLONES_ON)
-// |wrapPi(d)| eight lanes at a time: nearestAbove's circDist, `a > pi ? 2 pi - a : a` with
+// |wrapPi(d)| eight lanes at a time: circularDistance (angles.hpp), `a > pi ? 2 pi - a : a` with
 // a = |d|, as min(2 pi - a, a) (vminps returns its second operand unless the first is less).
 // The same bits for every a >= 0, NaN included (checked over all of them): 2 pi - a rounds to
 // at most pi < a when a > pi, and to at least a when a <= pi (kTwoPi is exactly 2 kPi). Two

@@ -3,6 +3,7 @@
 // recursion.
 #include "ring_curvature/primitives.hpp"
 
+#include "angles.hpp"
 #include "primitive_runs.hpp"
 #include "primitive_sums.hpp"
 #include "simd_clones.hpp"
@@ -21,12 +22,7 @@ namespace ring_curvature
 
 namespace
 {
-constexpr float kPi = 3.14159265358979f;
-inline float angDiff(float a, float b)
-{
-  float d = std::fabs(a - b);
-  return d > kPi ? 2 * kPi - d : d;
-}
+inline float angDiff(float a, float b) { return circularDistance(a - b); }
 
 inline bool inRange(double ra, double rb, double range_ratio, double range_min)
 {

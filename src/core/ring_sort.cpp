@@ -3,6 +3,7 @@
 // Identical dual returns are folded on the way and given their twin's verdict afterwards.
 #include "ring_curvature/scan_grid.hpp"
 
+#include "angles.hpp"
 #include "grow.hpp"
 #include "simd_clones.hpp"
 
@@ -19,8 +20,6 @@ namespace ring_curvature
 
 namespace
 {
-constexpr float kPi = 3.14159265358979f;
-constexpr float kTwoPi = 6.28318530717959f;
 
 // The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0
 // azimuth is made +0 first, so equal floats give equal keys), with the input index below: one

@@ -4,6 +4,7 @@
 // rings, and the nearest sample on the ring above (grid_vertical.cpp).
 #include "ring_curvature/scan_grid.hpp"
 
+#include "angles.hpp"
 #include "cloud_view_checks.hpp"
 #include "compress_table.hpp"
 #include "record_read.hpp"
@@ -24,7 +25,6 @@ namespace ring_curvature
 
 namespace
 {
-constexpr float kTwoPi = 6.28318530717959f;
 
 // Grid coordinates in grid order from the input pass's float32 copies (float32 widens to double
 // exactly), a gather that vectorizes on AVX2.
