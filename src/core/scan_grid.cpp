@@ -53,6 +53,40 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
   }
 }
 
+#if defined(RC_SIMD_CLONES_ON)
+// keptStretch eight samples a step.
+__attribute__((target("avx2"))) std::uint32_t keptStretchAvx2(const float* az, std::uint32_t p, std::uint32_t e,
+                                                             float same_firing)
+{
+  const __m256 limit = _mm256_set1_ps(same_firing);
+  std::uint32_t q = p;
+  for (; q + 8 <= e; q += 8)
+  {
+    const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(az + q), _mm256_loadu_ps(az + q - 1));
+    if (_mm256_movemask_ps(_mm256_cmp_ps(d, limit, _CMP_LT_OQ)) != 0) break;
+  }
+  return q - p;
+}
+#endif
+
+// How many samples from p on (in whole groups of eight, before e) are each at least
+// `same_firing` after their predecessor (az[p - 1] included): the stretch removeDuplicates keeps
+// as it is. A difference that is NaN or not below same_firing counts as kept, as there.
+std::uint32_t keptStretch(const float* az, std::uint32_t p, std::uint32_t e, float same_firing)
+{
+  std::uint32_t q = p;
+#if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx2")) return keptStretchAvx2(az, p, e, same_firing);
+#endif
+  for (; q + 8 <= e; q += 8)
+  {
+    bool close = false;
+    for (std::uint32_t t = q; t < q + 8; ++t) close |= az[t] - az[t - 1] < same_firing;
+    if (close) break;
+  }
+  return q - p;
+}
+
 // Links along a ring (b, e): one test per sample against its predecessor, in loops of their own
 // that the compiler vectorizes (through the grid's vectors and with the organized / unorganized
 // choice inside, it went one byte at a time).
@@ -269,6 +303,27 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
     float rep_az = 0.0f;
     for (std::uint32_t p = b; p < e; ++p)
     {
+      // Past the ring's first sample, the stretch of samples each at least a firing after its
+      // predecessor is kept whole: each is then at least that far from the representative too
+      // (an earlier sample in the sorted ring), so the loop below would keep every one. On a
+      // single-return frame that is nearly every sample.
+      if (rep >= 0)
+      {
+        const std::uint32_t k = keptStretch(sorted_az_.data(), p, e, same_firing);
+        if (k > 0)
+        {
+          if (w != p)
+          {
+            std::memmove(tmp_index_.data() + w, tmp_index_.data() + p, k * sizeof(std::uint32_t));
+            std::memmove(sorted_az_.data() + w, sorted_az_.data() + p, k * sizeof(float));
+          }
+          w += k;
+          p += k;
+          rep = tmp_index_[w - 1];
+          rep_az = sorted_az_[w - 1];
+          if (p >= e) break;
+        }
+      }
       const std::uint32_t i = tmp_index_[p];
       const float az = sorted_az_[p];
       if (rep >= 0 && az - rep_az < same_firing)
