@@ -54,35 +54,20 @@ RC_SIMD_CLONES void sortKeys(const float* __restrict az, std::size_t i0, std::si
 }
 
 #if defined(RC_SIMD_CLONES_ON)
-// Sort keys of the points [i, to) of rings that come one after another, eight at a time while
-// all eight are in ring `ring` (valid), stored from out[nx] on: the scalar loop spent about 20
-// instructions a point on them (KITTI). sortKey in eight lanes: +0 turns -0 into +0, the sign
-// mask flips the bits as orderedKey does, and the index goes in the low half of each 64-bit
-// key. Stops at the first block with another ring or an invalid point (the scalar loop takes
-// that point); returns where it stopped and advances nx.
-__attribute__((target("avx2"))) std::size_t ringRunKeysAvx2(const std::int32_t* ring_of, const float* paz,
-                                                            std::size_t i, std::size_t to, std::int32_t ring,
-                                                            std::uint64_t* out, std::uint32_t& nx)
+// How many points from i on, in whole groups of eight before `to`, are in ring `ring` (valid):
+// the stretch of rings that come one after another (KITTI) whose keys sortKeys makes in one call,
+// where the scalar loop spent about 20 instructions a point on them.
+__attribute__((target("avx2"))) std::size_t ringStretchAvx2(const std::int32_t* ring_of, std::size_t i,
+                                                            std::size_t to, std::int32_t ring)
 {
   const __m256i same = _mm256_set1_epi32(ring);
-  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const __m256i top = _mm256_set1_epi32(static_cast<int>(0x80000000u));
-  std::uint32_t w = nx;
-  for (; i + 8 <= to; i += 8)
+  std::size_t q = i;
+  for (; q + 8 <= to; q += 8)
   {
-    const __m256i r = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ring_of + i));
+    const __m256i r = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ring_of + q));
     if (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(r, same))) != 0xFF) break;
-    const __m256i u = _mm256_castps_si256(_mm256_add_ps(_mm256_loadu_ps(paz + i), _mm256_setzero_ps()));
-    const __m256i key = _mm256_xor_si256(u, _mm256_or_si256(_mm256_srai_epi32(u, 31), top));
-    const __m256i index = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(i)), lanes);
-    // (index, key) pairs: lanes 0, 1, 4, 5 and 2, 3, 6, 7, put back in order by the 128-bit halves
-    const __m256i lo = _mm256_unpacklo_epi32(index, key), hi = _mm256_unpackhi_epi32(index, key);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + w), _mm256_permute2x128_si256(lo, hi, 0x20));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + w + 4), _mm256_permute2x128_si256(lo, hi, 0x31));
-    w += 8;
   }
-  nx = w;
-  return i;
+  return q - i;
 }
 #endif
 
@@ -253,7 +238,8 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     const bool avx2 = __builtin_cpu_supports("avx2");
 #endif
     // Points [from, to) in input order, folding or not. Without folding, the stretches of the
-    // current ring go eight keys at a time (ringRunKeysAvx2), this loop takes the rest.
+    // current ring get their keys in one call (ringStretchAvx2, sortKeys); this loop takes the
+    // rest.
     const auto run = [&](std::size_t from, std::size_t to, auto folding) {
       for (std::size_t i = from; i < to; ++i)
       {
@@ -262,7 +248,10 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
         {
           if (avx2 && cur >= 0)
           {
-            i = ringRunKeysAvx2(ring_of, paz, i, to, cur, unsorted, nx);
+            const std::size_t k = ringStretchAvx2(ring_of, i, to, cur);
+            sortKeys(paz + i, i, k, unsorted + nx);
+            nx += static_cast<std::uint32_t>(k);
+            i += k;
             if (i >= to) break;
           }
         }
