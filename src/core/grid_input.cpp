@@ -211,6 +211,18 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
     return Status::error(s.str());
   };
+  // The first point whose uint16 ring field is max_rings or more (one is known to be), for the
+  // message: the vectorized input passes only track the largest value read.
+  const auto firstRing16Error = [&]() {
+    std::size_t i = 0;
+    std::uint16_t r16 = 0;
+    for (; i < n; ++i)
+    {
+      std::memcpy(&r16, view.record(i) + view.ring.offset, sizeof r16);
+      if (r16 >= params.max_rings) break;
+    }
+    return ringError(i, r16);
+  };
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
   if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
@@ -220,15 +232,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
         static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), true, 0, rmin, rmax,
         prange_.data(), px_.data(), py_.data(), pz_.data(), paz_.data(), ring_of_.data(), grid.state.data(),
         grid.grid_pos.data());
-    if (max_read >= static_cast<std::uint32_t>(params.max_rings))
-    {
-      for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
-      {
-        std::uint16_t r16;
-        std::memcpy(&r16, view.data + i * view.point_step + view.ring.offset, sizeof r16);
-        if (r16 >= params.max_rings) return ringError(i, r16);
-      }
-    }
+    if (max_read >= static_cast<std::uint32_t>(params.max_rings)) return firstRing16Error();
   }
   else if (fast && view.organized())
   {
@@ -236,14 +240,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     if (readOrganized(view, params, grid, largest_field))
     {
       placed_ = true;
-      if (largest_field < static_cast<std::uint32_t>(params.max_rings)) return Status::success();
-      for (std::size_t i = 0; i < n; ++i)  // the first offending point, for the message
-      {
-        const std::size_t row = i / view.width, col = i % view.width;
-        std::uint16_t r16;
-        std::memcpy(&r16, view.data + row * view.row_step + col * view.point_step + view.ring.offset, sizeof r16);
-        if (r16 >= params.max_rings) return ringError(i, r16);
-      }
+      return largest_field < static_cast<std::uint32_t>(params.max_rings) ? Status::success() : firstRing16Error();
     }
     // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
     for (std::uint32_t row = 0; row < view.height; ++row)
