@@ -5,7 +5,7 @@
 
 #include "angles.hpp"
 #include "input_avx2.hpp"
-#include "prefetch.hpp"
+#include "ring_curvature/prefetch.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
 
@@ -121,7 +121,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
   std::size_t i = 0;
   for (; i + 8 < n; i += 8)  // (not the last point: its ring read could pass the end)
   {
-    // Eight store streams, on lines last written a frame ago (prefetch.hpp): each stream's
+    // Eight store streams, on lines last written a frame ago (ring_curvature/prefetch.hpp): each stream's
     // line kWriteAhead points ahead (a 32-byte stream asks for each line twice: a test would
     // cost as much), the one-byte states' every eighth group.
     {

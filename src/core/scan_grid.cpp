@@ -8,7 +8,7 @@
 #include "cloud_view_checks.hpp"
 #include "compress_table.hpp"
 #include "record_read.hpp"
-#include "prefetch.hpp"
+#include "ring_curvature/prefetch.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -35,7 +35,7 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 {
   for (std::size_t p = 0; p < m; ++p)
   {
-    // Four store streams on lines last written a frame ago (prefetch.hpp), once a line.
+    // Four store streams on lines last written a frame ago (ring_curvature/prefetch.hpp), once a line.
     if ((p & 7) == 0)
     {
       using detail::prefetchForWrite;

@@ -2,6 +2,7 @@
 
 #include "ring_curvature/ros/markers.hpp"
 #include "ring_curvature/ros/geometry_conversions.hpp"
+#include "ring_curvature/prefetch.hpp"
 #include "ring_curvature/ros/recycle.hpp"
 
 #include <Eigen/Geometry>
@@ -170,7 +171,6 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     const std::uint8_t* const px = data + cloud.x.offset;
     const std::uint8_t* const py = data + cloud.y.offset;
     const std::uint8_t* const pz = data + cloud.z.offset;
-    const auto px_addr = reinterpret_cast<std::uintptr_t>(px);
     const std::size_t num_indices = prims.indices.size();
     std::size_t k = prim.first;
     // Four points at a time: one bound test, one finiteness test and three 4-wide stores for the
@@ -187,14 +187,14 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
       // markers took ~10 % less time (A/B of whole frames, 32 ahead; 16 gained less, 64 no more).
       // Past the primitive's end too, into the indices of the ones after it (drawn next, in
       // order): a primitive's first kPrefetch points were never asked for, and most primitives
-      // have fewer. The address is an integer sum (those indices are not checked against this
-      // cloud yet; a prefetch never faults).
+      // have fewer. (Those indices are not checked against this cloud yet: the address may lie
+      // past its end, see ring_curvature/prefetch.hpp.)
       if (k + kPrefetch + 4 <= num_indices)
       {
-        __builtin_prefetch(reinterpret_cast<const void*>(px_addr + std::size_t{idx[k + kPrefetch]} * step));
-        __builtin_prefetch(reinterpret_cast<const void*>(px_addr + std::size_t{idx[k + kPrefetch + 1]} * step));
-        __builtin_prefetch(reinterpret_cast<const void*>(px_addr + std::size_t{idx[k + kPrefetch + 2]} * step));
-        __builtin_prefetch(reinterpret_cast<const void*>(px_addr + std::size_t{idx[k + kPrefetch + 3]} * step));
+        detail::prefetchForRead(px, std::size_t{idx[k + kPrefetch]} * step);
+        detail::prefetchForRead(px, std::size_t{idx[k + kPrefetch + 1]} * step);
+        detail::prefetchForRead(px, std::size_t{idx[k + kPrefetch + 2]} * step);
+        detail::prefetchForRead(px, std::size_t{idx[k + kPrefetch + 3]} * step);
       }
       const std::size_t o0 = i0 * step, o1 = i1 * step, o2 = i2 * step, o3 = i3 * step;
       const Float4 x = {readFloat32(px + o0), readFloat32(px + o1), readFloat32(px + o2), readFloat32(px + o3)};

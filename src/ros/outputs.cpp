@@ -2,6 +2,7 @@
 
 #include <sensor_msgs/PointField.h>
 
+#include "ring_curvature/prefetch.hpp"
 #include "ring_curvature/ros/recycle.hpp"
 
 #include <boost/make_shared.hpp>
@@ -165,14 +166,12 @@ inline U32x4 loadU32x4(const T* p)
 // 24, 48 and 96 points ahead alike; prefetchw, where the CPU has it, did no better).
 constexpr std::size_t kStoreAhead = 48, kLine = 64;
 
-// Prefetches `lines` cache lines from `offset` bytes past `p` on. An integer sum: the lines may
-// lie past the end of the buffer, where a prefetch is harmless (it never faults) but a pointer
-// may not point.
+// Prefetches `lines` cache lines from `offset` bytes past `p` on (the lines may lie past the
+// buffer's end: ring_curvature/prefetch.hpp).
 inline void prefetchLines(const std::uint8_t* p, std::size_t offset, std::size_t lines)
 {
-  const auto a = reinterpret_cast<std::uintptr_t>(p) + offset;
   for (std::size_t k = 0; k < lines; ++k)
-    __builtin_prefetch(reinterpret_cast<const void*>(a + k * kLine), 1);
+    detail::prefetchForWrite(p, offset + k * kLine);
 }
 
 // Nothing more per point (makeLabelledCloud alone).

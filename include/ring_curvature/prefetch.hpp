@@ -1,4 +1,5 @@
-// Write-ahead hints for the core's store streams.
+// Prefetch hints at addresses that may lie past a buffer's end: the core's store streams, and
+// the nodelet's cloud fill and marker gather (ros/outputs.cpp, ros/markers.cpp).
 //
 // The core's per-point arrays are recycled from frame to frame: when a pass writes one again,
 // its lines were last touched a frame ago and the stages since have pushed them out of the
@@ -23,6 +24,11 @@ constexpr std::size_t kWriteAhead = 64;
 inline void prefetchForWrite(const void* p, std::size_t offset)
 {
   __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(p) + offset), 1);
+}
+// The same for reading.
+inline void prefetchForRead(const void* p, std::size_t offset)
+{
+  __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(p) + offset));
 }
 }  // namespace detail
 }  // namespace ring_curvature
