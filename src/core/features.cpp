@@ -4,6 +4,7 @@
 
 #include "angles.hpp"
 #include "grow.hpp"
+#include "ring_index.hpp"
 #include "simd_clones.hpp"
 #include "smoothness.hpp"
 
@@ -181,17 +182,7 @@ struct RingCtx
   // positions
   std::uint32_t pos(std::int64_t k) const
   {
-    // Offsets are a few samples: one add or subtract wraps them, where `%` costs a 64-bit
-    // division per neighbour access. The division stays as the fallback for tiny rings.
-    const auto KK = static_cast<std::int64_t>(K);
-    if (k < 0) k += KK;
-    else if (k >= KK) k -= KK;
-    if (k < 0 || k >= KK)
-    {
-      k %= KK;
-      if (k < 0) k += KK;
-    }
-    return b + static_cast<std::uint32_t>(k);
+    return b + static_cast<std::uint32_t>(wrapRingIndex(k, static_cast<std::int64_t>(K)));
   }
 };
 }  // namespace

@@ -3,6 +3,7 @@
 // closed ring.
 #include "smoothness.hpp"
 
+#include "ring_index.hpp"
 #include "simd_clones.hpp"
 
 #if defined(__SSE2__)
@@ -25,18 +26,11 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr int kMaxWindow = 256;
 
 // Range of ring sample i, i in [-K - 1, 2K] (a window's reach across the seam of a closed ring; an
-// open ring's windows stay inside it). One add or subtract wraps it; `%` is the fallback for rings
-// shorter than the reach (the same positions as ScanGrid neighbours across the seam).
+// open ring's windows stay inside it): the same positions as the features' neighbours across the
+// seam.
 inline double wrappedRange(const double* rho, int K, std::ptrdiff_t i)
 {
-  if (i < 0) i += K;
-  else if (i >= K) i -= K;
-  if (i < 0 || i >= K)
-  {
-    i %= K;
-    if (i < 0) i += K;
-  }
-  return rho[i];
+  return rho[wrapRingIndex(i, K)];
 }
 
 // 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) for a window of cnt consecutive samples
