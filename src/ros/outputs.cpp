@@ -241,7 +241,8 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
   const std::size_t point_step = in.point_step, row_step = in.row_step;
   const std::uint8_t* const data = in.data.data();
   // Cache lines written per four points (at most, for the subset).
-  const std::size_t labelled_lines = (4 * step + kLine - 1) / kLine, subset_lines = (4 * point_step + kLine - 1) / kLine;
+  const std::size_t labelled_lines = (4 * step + kLine - 1) / kLine;
+  const std::size_t subset_lines = (4 * point_step + kLine - 1) / kLine;
   std::size_t i = 0;
   for (std::uint32_t row = 0; row < height; ++row)
   {
