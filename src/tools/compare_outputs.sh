@@ -6,6 +6,9 @@
 # usage: compare_outputs.sh BEFORE_DIR AFTER_DIR [WORK_DIR]
 #   *_DIR: a folder with process_bag and the libring_curvature_{core,ros}.so it should load
 #   (copied out of a workspace's devel/lib: LD_LIBRARY_PATH takes precedence over RUNPATH).
+#   AFTER_WRAPPER: a command the after side's process_bag runs under (e.g. "valgrind --tool=none -q",
+#   which reports a CPU without AVX-512, so that the AVX2 clones run on an AVX-512 host).
+#   COMPARE_BAGS: a space-separated list of bags instead of the default set.
 # Exit status: 0 when every output is identical, 1 otherwise.
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
@@ -26,6 +29,7 @@ bags=("$REPO_ROOT"/rosbag_fixtures/*.bag
   "$real/ouster/ouster_os1_128_lb_rng15_3frames_organized.bag"
   "$real/ouster/ouster_os1_32_legacy_1frame_unorganized.bag"
   "$real/ouster/ouster_os0_32_dual_1frame_organized.bag")
+[[ -n "${COMPARE_BAGS:-}" ]] && read -r -a bags <<<"$COMPARE_BAGS"
 # Parameter sets: defaults; every alternative mode; the paper's curvature with rings from elevation.
 cat > "$work/defaults.yaml" <<'EOF'
 min_range: 0.3
@@ -55,7 +59,9 @@ EOF
     name="$(basename "$bag" .bag).$params"
     for side in before after; do
       dir=${!side}
-      LD_LIBRARY_PATH="$dir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "$dir/process_bag" --input "$bag" \
+      wrapper=()
+      [[ $side == after && -n "${AFTER_WRAPPER:-}" ]] && read -r -a wrapper <<<"$AFTER_WRAPPER"
+      LD_LIBRARY_PATH="$dir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "${wrapper[@]}" "$dir/process_bag" --input "$bag" \
         --output "$work/$name.$side.bag" --topic "$topic" --params "$work/$params.yaml" \
         > "$work/$name.$side.log" 2>&1 || echo "process_bag failed ($side): $name (log: $work/$name.$side.log)"
     done
