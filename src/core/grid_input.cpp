@@ -5,6 +5,7 @@
 
 #include "angles.hpp"
 #include "input_avx2.hpp"
+#include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
 #include "record_read.hpp"
 #include "simd_clones.hpp"
@@ -167,8 +168,87 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
 }
 #endif
 
-// The input pass over records [0, n) (see readXyzRecords): with AVX2 eight at a time, the rest
-// one at a time.
+#if defined(RC_SIMD_CLONES_ON)
+// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
+// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
+// off for the AVX-512 function alone.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// readXyzRecordsAvx2 sixteen points at a time with AVX-512F: the same operations lane by lane
+// (input_avx512.hpp). Half the instructions a point: the azimuth polynomial, the range and the
+// stores were the pass's cost more than its gathers. Same contract as readXyzRecordsAvx2 (the
+// last point is left to the loops after it).
+__attribute__((target("avx512f"))) std::size_t readXyzRecordsAvx512(
+    const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox, std::size_t oy, std::size_t oz,
+    std::size_t oring, bool has_ring, std::int32_t fixed_ring, double rmin, double rmax, double* range_out, float* px,
+    float* py, float* pz, float* paz, std::int32_t* ring_out, PointState* state, std::int32_t* grid_pos,
+    std::uint32_t& max_read)
+{
+  // every gather offset of a group (15 steps and a field offset) must fit an int32
+  if (step > (1u << 26) || n < 17) return 0;
+  const __m512i lanes = _mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0),
+                                           _mm512_set1_epi32(static_cast<int>(step)));
+  const __m512i vx = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(ox)));
+  const __m512i vy = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(oy)));
+  const __m512i vz = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(oz)));
+  const __m512i vr = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(oring)));
+  const __m512i low16 = _mm512_set1_epi32(0xFFFF), fixed = _mm512_set1_epi32(fixed_ring);
+  const __m512i none = _mm512_set1_epi32(-1), one = _mm512_set1_epi32(static_cast<int>(PointState::OnGrid));
+  const __m512d lo = _mm512_set1_pd(rmin), hi = _mm512_set1_pd(rmax);
+  __m512i largest = _mm512_setzero_si512();
+  std::size_t i = 0;
+  for (; i + 16 < n; i += 16)  // (not the last point: its ring read could pass the end)
+  {
+    {
+      // one line of each float stream a group, two of the ranges, a quarter of the states'
+      using detail::prefetchForWrite;
+      constexpr std::size_t A = detail::kWriteAhead;
+      prefetchForWrite(range_out, (i + A) * sizeof(double));
+      prefetchForWrite(range_out, (i + A + 8) * sizeof(double));
+      prefetchForWrite(px, (i + A) * sizeof(float));
+      prefetchForWrite(py, (i + A) * sizeof(float));
+      prefetchForWrite(pz, (i + A) * sizeof(float));
+      prefetchForWrite(paz, (i + A) * sizeof(float));
+      prefetchForWrite(ring_out, (i + A) * sizeof(std::int32_t));
+      prefetchForWrite(grid_pos, (i + A) * sizeof(std::int32_t));
+      if ((i & 63) == 0) prefetchForWrite(state, i + A);
+    }
+    const auto* const base = reinterpret_cast<const float*>(data + i * step);
+    const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),
+                 z = _mm512_i32gather_ps(vz, base, 1);
+    const __m512d r0 = detail::range8Avx512(_mm512_castps512_ps256(x), _mm512_castps512_ps256(y),
+                                            _mm512_castps512_ps256(z));
+    const __m512d r1 = detail::range8Avx512(
+        _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(x), 1)),
+        _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(y), 1)),
+        _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(z), 1)));
+    _mm512_storeu_pd(range_out + i, r0);
+    _mm512_storeu_pd(range_out + i + 8, r1);
+    _mm512_storeu_ps(px + i, x);
+    _mm512_storeu_ps(py + i, y);
+    _mm512_storeu_ps(pz + i, z);
+    _mm512_storeu_ps(paz + i, detail::fastAtan2Avx512(y, x));
+    const auto valid = static_cast<__mmask16>(detail::valid8Avx512(r0, lo, hi) |
+                                              (static_cast<unsigned>(detail::valid8Avx512(r1, lo, hi)) << 8));
+    __m512i ring = fixed;
+    if (has_ring)
+    {
+      ring = _mm512_and_si512(_mm512_i32gather_epi32(vr, base, 1), low16);
+      largest = _mm512_max_epu32(largest, ring);
+    }
+    _mm512_storeu_si512(ring_out + i, _mm512_mask_blend_epi32(valid, none, ring));
+    // OnGrid (1) or Invalid (0) per lane, narrowed to bytes
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(state + i), _mm512_cvtepi32_epi8(_mm512_maskz_mov_epi32(valid, one)));
+    _mm512_storeu_si512(grid_pos + i, none);
+  }
+  max_read = std::max(max_read, _mm512_reduce_max_epu32(largest));
+  return i;
+}
+#pragma GCC diagnostic pop
+#endif
+
+// The input pass over records [0, n) (see readXyzRecords): with AVX-512 sixteen at a time, with
+// AVX2 eight at a time, the rest one at a time.
 std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox,
                           std::size_t oy, std::size_t oz, std::size_t oring, bool has_ring, std::int32_t fixed_ring,
                           double rmin, double rmax, double* range_out, float* px, float* py, float* pz, float* paz,
@@ -177,9 +257,16 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
   std::uint32_t max_read = 0;
   std::size_t done = 0;
 #if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx512f"))
+    done = readXyzRecordsAvx512(data, n, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax, range_out, px,
+                                py, pz, paz, ring_out, state, grid_pos, max_read);
   if (__builtin_cpu_supports("avx2"))
-    done = readXyzRecordsAvx2(data, n, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax, range_out, px, py,
-                              pz, paz, ring_out, state, grid_pos, max_read);
+  {
+    const std::size_t o = done * step;
+    done += readXyzRecordsAvx2(data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax,
+                               range_out + done, px + done, py + done, pz + done, paz + done, ring_out + done,
+                               state + done, grid_pos + done, max_read);
+  }
 #endif
   const std::size_t o = done * step;
   max_read = std::max(max_read, readXyzRecords(data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin,

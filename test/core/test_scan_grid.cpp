@@ -467,10 +467,11 @@ TEST(ScanGrid, RejectsBadViewsWithAClearMessage)
   EXPECT_EQ(r.label.size(), 3u);
 }
 
-// The input pass reads most records eight at a time (AVX2, where the CPU has it) and the rest one
-// at a time: either way every point on the grid must carry exactly fastAtan2(y, x) of its float
-// coordinates and the double range sqrt((x x + y y) + z z), special values included (signed
-// zeros, subnormals, |x| = |y|, the axes), and points out of range or NaN must stay off the grid.
+// The input pass reads most records sixteen (AVX-512) or eight (AVX2) at a time, where the CPU
+// has those, and the rest one at a time: either way every point on the grid must carry exactly
+// fastAtan2(y, x) of its float coordinates and the double range sqrt((x x + y y) + z z), special
+// values included (signed zeros, subnormals, |x| = |y|, the axes), and points out of range or NaN
+// must stay off the grid.
 TEST(ScanGrid, InputPassGivesExactAzimuthsAndRanges)
 {
   const float specials[] = {0.0f, -0.0f, 1e-40f, -1e-40f, 1.0f, -1.0f, 2.5f, -2.5f, 1e3f, -1e3f, 7.0e-3f, -3.0f};
