@@ -98,23 +98,22 @@ __attribute__((target("avx2"))) void primitiveSumsAvx2(const std::uint32_t* __re
   for (std::uint32_t k = ng; k < np; ++k)  // duplicates
     sum = _mm_add_ps(sum, _mm256_cvtpd_ps(xyzzAvx2(gx, gy, gz, sp[k])));
   const __m128 centroid = _mm_div_ps(sum, _mm_set1_ps(static_cast<float>(np)));
-  const __m256d c = _mm256_cvtps_pd(centroid);  // (cx, cy, cz, -)
-  const __m256d ca = _mm256_permute4x64_pd(c, 0xa4);  // (cx, cy, cz, cz)
-  const __m256d cb = _mm256_permute4x64_pd(c, 0x84);  // (cx, cy, cx, cz)
-  const __m128d cd = _mm256_castpd256_pd128(_mm256_permute4x64_pd(c, 0x09));  // (cy, cz)
-  __m256d m = _mm256_setzero_pd();
-  __m128d mxy = _mm_setzero_pd();
+  const __m256d c = _mm256_permute4x64_pd(_mm256_cvtps_pd(centroid), 0xa4);  // (cx, cy, cz, cz)
+  // The six products as d d (xx, yy, zz, zz) and d rot(d) (xy, yz, zx, -), rot(d) = (dy, dz, dx, dx):
+  // each entry is still one product of the same two differences summed in the same order (zx as
+  // dz dx, the same double as dx dz), in 8 vector operations a point where (dx, dy, dz, dz) times
+  // (dx, dy, dx, dz) and (dx, dy) times (dy, dz), each pair built by blends and subtractions,
+  // took 11: on this pass's three vector ports the operations, not the additions' latency, were
+  // the bound. One lane-crossing permutation a point is all that port 5 gets.
+  __m256d dd = _mm256_setzero_pd(), dr = _mm256_setzero_pd();
   for (std::uint32_t k = 0; k < np; ++k)
   {
-    const std::uint32_t p = sp[k];
-    const __m256d x = _mm256_broadcast_sd(gx + p), y = _mm256_broadcast_sd(gy + p), z = _mm256_broadcast_sd(gz + p);
-    const __m256d xy = _mm256_blend_pd(x, y, 0b0010);                     // (x, y, x, x)
-    const __m256d a = _mm256_sub_pd(_mm256_blend_pd(xy, z, 0b1100), ca);  // (dx, dy, dz, dz)
-    const __m256d b = _mm256_sub_pd(_mm256_blend_pd(xy, z, 0b1000), cb);  // (dx, dy, dx, dz)
-    m = _mm256_add_pd(m, _mm256_mul_pd(a, b));                            // (dx dx, dy dy, dz dx, dz dz)
-    const __m128d yz = _mm_sub_pd(_mm_blend_pd(_mm256_castpd256_pd128(y), _mm256_castpd256_pd128(z), 0b10), cd);
-    mxy = _mm_add_pd(mxy, _mm_mul_pd(_mm256_castpd256_pd128(a), yz));    // (dx dy, dy dz)
+    const __m256d d = _mm256_sub_pd(xyzzAvx2(gx, gy, gz, sp[k]), c);  // (dx, dy, dz, dz)
+    dd = _mm256_add_pd(dd, _mm256_mul_pd(d, d));
+    dr = _mm256_add_pd(dr, _mm256_mul_pd(d, _mm256_permute4x64_pd(d, 0x09)));
   }
+  const __m256d m = _mm256_blend_pd(dd, dr, 0b0100);  // (xx, yy, zx, zz)
+  const __m128d mxy = _mm256_castpd256_pd128(dr);     // (xy, yz)
   std::memcpy(out.lo, &lo, sizeof lo);
   std::memcpy(out.hi, &hi, sizeof hi);
   std::memcpy(out.centroid, &centroid, sizeof centroid);
