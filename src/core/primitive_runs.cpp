@@ -13,26 +13,6 @@ namespace ring_curvature
 {
 
 #if defined(RC_SIMD_CLONES_ON)
-namespace
-{
-// For each 8-bit mask, lane l: how many of lanes 0 to l are set (an inclusive prefix count)
-struct PrefixTable
-{
-  std::int32_t lane[256][8];
-};
-constexpr PrefixTable makePrefixTable()
-{
-  PrefixTable t{};
-  for (int mask = 0; mask < 256; ++mask)
-    for (int l = 0, c = 0; l < 8; ++l)
-    {
-      c += (mask >> l) & 1;
-      t.lane[mask][l] = c;
-    }
-  return t;
-}
-constexpr PrefixTable kPrefix = makePrefixTable();
-}  // namespace
 
 // The scalar cutRing loops once per run, and the end of a run (its length is data) is a
 // mispredicted branch, about one a run. Here no branch depends on the data: a position's run id

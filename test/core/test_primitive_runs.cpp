@@ -25,8 +25,8 @@ struct Cut
 
 // A run opens at b and wherever join is 0; a wanted label's run takes the next id, every other
 // position gets `none` (as the run loop of primitives.cpp).
-void referenceCut(std::uint32_t b, std::uint32_t e, const std::vector<Label>& lab, const std::vector<std::uint8_t>& join,
-                  std::uint8_t num_wanted, std::uint32_t none, Cut& c)
+void referenceCut(std::uint32_t b, std::uint32_t e, const std::vector<Label>& lab,
+                  const std::vector<std::uint8_t>& join, std::uint8_t num_wanted, std::uint32_t none, Cut& c)
 {
   for (std::uint32_t p = b; p < e;)
   {
