@@ -114,7 +114,7 @@ private:
   void scatterInterleaved(std::size_t from, std::size_t to);
   /// Folds one ring's k keys in firing order in place (ring_fold.cpp): keeps a key unless its
   /// azimuth and range equal those of one of the two keys before it as they came, and lists the
-  /// others in `followers` from `num_followers` on (up to 3 entries past the count are
+  /// others in `followers` from `num_followers` on (up to 7 entries past the count are
   /// written). `sentinel` is a key whose range (range[index]) no point has. Returns the number kept.
   static std::uint32_t foldRing(std::uint64_t* keys, std::uint32_t k, std::uint64_t sentinel, const double* range,
                                 Follower* followers, std::size_t& num_followers);

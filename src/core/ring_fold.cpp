@@ -1,7 +1,7 @@
 // Folding of identical dual returns, ring by ring: after the scatter by ring, a pass over each
 // ring's keys in firing order keeps the points that differ from both keys before them and lists
-// the others as followers of their twin (resolveFollowers gives them its verdict). Four keys at
-// a time on AVX2, with the same result as the plain loop.
+// the others as followers of their twin (resolveFollowers gives them its verdict). Eight keys at
+// a time on AVX-512, four on AVX2, with the same result as the plain loop.
 #include "ring_curvature/scan_grid.hpp"
 
 #include "compress_table.hpp"
@@ -58,9 +58,10 @@ std::uint32_t foldPlain(std::uint64_t* keys, std::uint32_t from, std::uint32_t k
 #if defined(RC_SIMD_CLONES_ON)
 // foldPlain four keys at a time: the keys one and two places back are the current vector shifted
 // in from the last one (no reload: the packed stores overwrite the raw keys behind), the ranges
-// four loads per vector, kept keys and followers left-packed through the pair table. Returns the
-// keys done; `w`, `p1`, `p2` and the count continue the plain loop.
-__attribute__((target("avx2,popcnt"))) std::uint32_t foldAvx2(std::uint64_t* keys, std::uint32_t k,
+// four loads per vector, kept keys and followers left-packed through the pair table. Starts at
+// key j (after foldAvx512's), returns the keys done; `w`, `p1`, `p2` and the count continue the
+// plain loop.
+__attribute__((target("avx2,popcnt"))) std::uint32_t foldAvx2(std::uint64_t* keys, std::uint32_t j, std::uint32_t k,
                                                                 std::uint32_t& w, std::uint64_t& p1,
                                                                 std::uint64_t& p2, const double* range,
                                                                 void* out, std::size_t& num_followers)
@@ -71,7 +72,8 @@ __attribute__((target("avx2,popcnt"))) std::uint32_t foldAvx2(std::uint64_t* key
   __m256i prev = _mm256_set_epi64x(static_cast<long long>(p1), static_cast<long long>(p2), 0, 0);
   __m256i prev_r = _mm256_set_epi64x(static_cast<long long>(rangeBits(range, p1)),
                                      static_cast<long long>(rangeBits(range, p2)), 0, 0);
-  std::uint32_t j = 0, kept = w;
+  std::uint32_t kept = w;
+  const std::uint32_t from = j;
   std::size_t count = num_followers;
   for (; j + 4 <= k; j += 4)
   {
@@ -102,7 +104,7 @@ __attribute__((target("avx2,popcnt"))) std::uint32_t foldAvx2(std::uint64_t* key
     prev = key;
     prev_r = r;
   }
-  if (j > 0)
+  if (j > from)
   {
     alignas(32) std::uint64_t last[4];
     _mm256_store_si256(reinterpret_cast<__m256i*>(last), prev);
@@ -113,6 +115,64 @@ __attribute__((target("avx2,popcnt"))) std::uint32_t foldAvx2(std::uint64_t* key
   num_followers = count;
   return j;
 }
+
+// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
+// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
+// off for the AVX-512 function alone.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// foldAvx2 eight keys at a time with AVX-512F: the keys one and two places back by one valignq
+// each, the comparisons as mask registers, and the left-packing by vpcompressq (no table). The
+// packed stores are whole vectors, as in foldAvx2 (up to 7 followers past the count). Same
+// contract: returns the keys done, the rest to foldAvx2 and the plain loop.
+__attribute__((target("avx512f,popcnt"))) std::uint32_t foldAvx512(std::uint64_t* keys, std::uint32_t k,
+                                                                    std::uint32_t& w, std::uint64_t& p1,
+                                                                    std::uint64_t& p2, const double* range,
+                                                                    void* out, std::size_t& num_followers)
+{
+  auto* const followers = static_cast<std::uint64_t*>(out);
+  const __m512i low = _mm512_set1_epi64(0xFFFFFFFFLL);
+  // the raw keys and range bits before the first vector: lanes 6 and 7 are j - 2 and j - 1
+  __m512i prev = _mm512_set_epi64(static_cast<long long>(p1), static_cast<long long>(p2), 0, 0, 0, 0, 0, 0);
+  __m512i prev_r = _mm512_set_epi64(static_cast<long long>(rangeBits(range, p1)),
+                                    static_cast<long long>(rangeBits(range, p2)), 0, 0, 0, 0, 0, 0);
+  std::uint32_t j = 0, kept = w;
+  std::size_t count = num_followers;
+  for (; j + 8 <= k; j += 8)
+  {
+    const __m512i key = _mm512_loadu_si512(keys + j);
+#define RC_RANGE(l) static_cast<long long>(rangeBits(range, keys[j + (l)]))
+    const __m512i r = _mm512_set_epi64(RC_RANGE(7), RC_RANGE(6), RC_RANGE(5), RC_RANGE(4), RC_RANGE(3), RC_RANGE(2),
+                                       RC_RANGE(1), RC_RANGE(0));
+#undef RC_RANGE
+    // two places back: [j-2 .. j+5]; one place back: [j-1 .. j+6]
+    const __m512i key2 = _mm512_alignr_epi64(key, prev, 6), r2 = _mm512_alignr_epi64(r, prev_r, 6);
+    const __m512i key1 = _mm512_alignr_epi64(key, prev, 7), r1 = _mm512_alignr_epi64(r, prev_r, 7);
+    const __m512i az = _mm512_srli_epi64(key, 32);
+    const __mmask8 same1 = _mm512_mask_cmpeq_epi64_mask(_mm512_cmpeq_epi64_mask(r, r1), az, _mm512_srli_epi64(key1, 32));
+    const __mmask8 same2 = _mm512_mask_cmpeq_epi64_mask(_mm512_cmpeq_epi64_mask(r, r2), az, _mm512_srli_epi64(key2, 32));
+    const auto same = static_cast<__mmask8>(same1 | same2), keep = static_cast<__mmask8>(~same);
+    _mm512_storeu_si512(keys + kept, _mm512_maskz_compress_epi64(keep, key));
+    kept += static_cast<std::uint32_t>(__builtin_popcount(keep));
+    const __m512i twin = _mm512_mask_blend_epi64(same1, key2, key1);
+    const __m512i follower = _mm512_or_si512(_mm512_and_si512(key, low), _mm512_slli_epi64(twin, 32));
+    _mm512_storeu_si512(followers + count, _mm512_maskz_compress_epi64(same, follower));
+    count += static_cast<std::size_t>(__builtin_popcount(same));
+    prev = key;
+    prev_r = r;
+  }
+  if (j > 0)
+  {
+    alignas(64) std::uint64_t last[8];
+    _mm512_store_si512(last, prev);
+    p1 = last[7];
+    p2 = last[6];
+  }
+  w = kept;
+  num_followers = count;
+  return j;
+}
+#pragma GCC diagnostic pop
 #endif
 }  // namespace
 
@@ -125,8 +185,10 @@ std::uint32_t ScanGridBuilder::foldRing(std::uint64_t* keys, std::uint32_t k, st
   std::uint32_t w = 0, j = 0;
   std::uint64_t p1 = sentinel, p2 = sentinel;
 #if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt"))
+    j = foldAvx512(keys, k, w, p1, p2, range, followers, num_followers);
   if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
-    j = foldAvx2(keys, k, w, p1, p2, range, followers, num_followers);
+    j = foldAvx2(keys, j, k, w, p1, p2, range, followers, num_followers);
 #endif
   return foldPlain(keys, j, k, w, p1, p2, range, followers, num_followers);
 }

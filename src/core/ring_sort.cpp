@@ -162,7 +162,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    which are in firing order: kept alongside the fold, it went through memory at every
   //    point.)
   prange_[n] = -1.0;  // no point's range: foldRing's start value (readPoints leaves room for it)
-  growTo(followers_, n + 4);  // (room for foldRing's vector stores past the count)
+  growTo(followers_, n + 8);  // (room for foldRing's vector stores past the count)
   Follower* const followers = followers_.data();
   std::size_t num_followers = 0;
   unfolded_largest_ = 0;
