@@ -1,0 +1,105 @@
+// The output stage: every input point's label, features and primitive are its grid position's,
+// bit for bit, and the points off the grid get none. The stage runs sixteen points at a time on
+// AVX-512, eight on AVX2 and one at a time for the rest, so the frame mixes every state within
+// each group and ends off a multiple of sixteen.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "../support/ray_scene.hpp"
+#include "ring_curvature/pipeline.hpp"
+
+using namespace ring_curvature;
+using namespace ring_curvature::test;
+
+namespace
+{
+// A room on level ground, as a dual-return driver emits it: each firing's first return, then a
+// second one that is mostly an identical copy (Duplicate), sometimes 0.3 m further (SecondReturn),
+// with no-returns (Invalid) where the beams miss and a few more cut out.
+SyntheticCloud dualReturnRoom()
+{
+  RayScene s;
+  s.ground_z = -1.8;
+  s.boxes.push_back({6.0, 0.0, -5, 5, 0.1, 6.1, 0});
+  s.boxes.push_back({-6.0, 0.0, -5, 5, 0.1, 6.1, 0});
+  s.boxes.push_back({0.0, 6.0, -5, 5, 6.1, 0.1, 0});
+  s.boxes.push_back({0.0, -6.0, -5, 5, 6.1, 0.1, 0});
+  const ScannedFrame f = scan(s, SensorModel::uniform(16, -15, 15, 0.4), 0.005, 5);
+  SyntheticCloud c;
+  for (std::size_t i = 0; i < f.cloud.size(); ++i)
+  {
+    float xyz[3];
+    std::memcpy(xyz, f.cloud.bytes().data() + i * 22, sizeof xyz);
+    const int ring = f.ring[i];
+    if (i % 29 == 7)
+    {
+      c.addNaN(ring);
+      continue;
+    }
+    c.add(xyz[0], xyz[1], xyz[2], ring);
+    if (i % 5 == 3) continue;  // a single return
+    const double r = std::sqrt(double(xyz[0]) * xyz[0] + double(xyz[1]) * xyz[1] + double(xyz[2]) * xyz[2]);
+    const double k = i % 7 == 2 ? (r + 0.3) / r : 1.0;
+    c.add(xyz[0] * k, xyz[1] * k, xyz[2] * k, ring);
+  }
+  for (int k = 0; c.size() % 16 != 1; ++k) c.add(1.0 + 0.01 * k, 2.0, 0.1, 3);  // off a multiple of sixteen and eight
+  return c;
+}
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+}  // namespace
+
+TEST(OutputGather, EveryPointGetsItsGridPositionsResultsBitForBit)
+{
+  const SyntheticCloud c = dualReturnRoom();
+  Pipeline p;
+  FrameResult r;
+  for (int pass = 0; pass < 2; ++pass)  // the second time into warm arrays
+  {
+    ASSERT_TRUE(p.process(c.view(), r).ok);
+    const ScanGrid& g = p.grid();
+    const Features& f = p.features();
+    const std::vector<Label>& lab = p.gridLabels();
+    const std::size_t n = c.size();
+    ASSERT_EQ(n % 16, 1u);
+    ASSERT_EQ(r.label.size(), n);
+    ASSERT_EQ(g.state.size(), n);
+    EXPECT_GT(g.num_duplicates, n / 4);
+    EXPECT_GT(g.num_second_returns, n / 20);
+    constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+    std::size_t wrong = 0, on_grid = 0, off_grid = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      bool ok;
+      if (g.state[i] == PointState::OnGrid || g.state[i] == PointState::Duplicate)
+      {
+        const auto q = static_cast<std::size_t>(g.grid_pos[i]);
+        ok = r.label[i] == static_cast<std::uint8_t>(lab[q]) && sameBits(r.curvature[i], f.curvature[q]) &&
+             sameBits(r.smoothness[i], f.smoothness[q]) && sameBits(r.discontinuity[i], f.discontinuity[q]) &&
+             r.primitive[i] == r.primitives.of_grid[q];
+        ++on_grid;
+      }
+      else
+      {
+        ok = r.label[i] == static_cast<std::uint8_t>(Label::None) && sameBits(r.curvature[i], kNaN) &&
+             sameBits(r.smoothness[i], kNaN) && sameBits(r.discontinuity[i], kNaN) && r.primitive[i] == -1;
+        ++off_grid;
+      }
+      if (!ok && wrong++ < 5) ADD_FAILURE() << "point " << i << " state " << static_cast<int>(g.state[i]);
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_GT(off_grid, n / 20);
+    // labels other than None and primitives are there to be gathered
+    std::size_t labelled = 0, in_primitive = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      labelled += r.label[i] != static_cast<std::uint8_t>(Label::None) ? 1 : 0;
+      in_primitive += r.primitive[i] >= 0 ? 1 : 0;
+    }
+    EXPECT_GT(labelled, on_grid / 2);
+    EXPECT_GT(in_primitive, on_grid / 4);
+  }
+}
