@@ -6,6 +6,7 @@
 
 #include "compress_table.hpp"
 #include "input_avx2.hpp"
+#include "input_avx512.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -178,12 +179,13 @@ inline std::size_t placeColumn(const std::uint8_t* rec, const RecordLayout& L, c
 // (48-byte records) the two passes moved about 160 bytes a point. Each lane computes what
 // readXyzRecordsAvx2 computes (input_avx2.hpp). Columns [0, vector_cols) go eight at a time,
 // the rest one at a time (placeColumn); `largest` takes the largest 16-bit ring field when
-// oring >= 0. Returns the new w.
+// oring >= 0. Columns before `first` (a multiple of 8) were done already (readPlaceRowAvx512).
+// Returns the new w.
 __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::uint8_t* row, const RecordLayout& L,
                                                                       const OrganizedGrid& out, std::size_t i0,
-                                                                      std::size_t W, std::size_t vector_cols,
-                                                                      std::size_t w, double& sum,
-                                                                      std::uint32_t& largest)
+                                                                      std::size_t W, std::size_t first,
+                                                                      std::size_t vector_cols, std::size_t w,
+                                                                      double& sum, std::uint32_t& largest)
 {
   const int st = static_cast<int>(L.step);
   const __m256i lanes = _mm256_setr_epi32(0, st, 2 * st, 3 * st, 4 * st, 5 * st, 6 * st, 7 * st);
@@ -195,7 +197,7 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   const __m256i one = _mm256_set1_epi32(static_cast<int>(PointState::OnGrid));
   __m256i most = _mm256_setzero_si256();
   double s = sum;
-  std::size_t c = 0;
+  std::size_t c = first;
   for (; c < vector_cols; c += 8)
   {
     const std::size_t i = i0 + c;
@@ -220,6 +222,87 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   sum = s;
   return w;
 }
+
+// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
+// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
+// off for the AVX-512 function alone.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// The lanes of v in `keep` moved to the front and widened to double, stored whole at `to`.
+__attribute__((target("avx512f"), always_inline)) inline void compressWiden(__mmask16 keep, __m512 v, double* to)
+{
+  const __m512 p = _mm512_maskz_compress_ps(keep, v);
+  _mm512_storeu_pd(to, _mm512_cvtps_pd(_mm512_castps512_ps256(p)));
+  _mm512_storeu_pd(to + 8, _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(p), 1))));
+}
+// readPlaceRowAvx2's columns [0, vector_cols) (a multiple of 16) sixteen at a time with AVX-512F,
+// lane by lane the same operations (input_avx512.hpp), so the same bits. The mask registers
+// make the compaction a compress into a register and a full store (the arrays have room for 16
+// past the end; compress-store to memory is slow on some Intel cores), and the grid positions
+// an expand of w, w + 1, ... into the valid lanes. Returns the new w.
+__attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uint8_t* row, const RecordLayout& L,
+                                                                    const OrganizedGrid& out, std::size_t i0,
+                                                                    std::size_t vector_cols, std::size_t w,
+                                                                    double& sum, std::uint32_t& largest)
+{
+  const __m512i iota = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+  const __m512i lanes = _mm512_mullo_epi32(iota, _mm512_set1_epi32(static_cast<int>(L.step)));
+  const __m512i vx = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(L.ox)));
+  const __m512i vy = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(L.oy)));
+  const __m512i vz = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(L.oz)));
+  const __m512i vr = _mm512_add_epi32(lanes, _mm512_set1_epi32(std::max(L.oring, 0)));
+  const __m512d lo = _mm512_set1_pd(L.rmin), hi = _mm512_set1_pd(L.rmax);
+  const __m512i one = _mm512_set1_epi32(static_cast<int>(PointState::OnGrid)), none = _mm512_set1_epi32(-1);
+  __m512i most = _mm512_setzero_si512();
+  double s = sum;
+  for (std::size_t c = 0; c < vector_cols; c += 16)
+  {
+    const std::size_t i = i0 + c;
+    const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
+    const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),
+                 z = _mm512_i32gather_ps(vz, base, 1);
+    const __m256 z1 = _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(z), 1));
+    const __m512d r0 = detail::range8Avx512(_mm512_castps512_ps256(x), _mm512_castps512_ps256(y),
+                                            _mm512_castps512_ps256(z));
+    const __m512d r1 = detail::range8Avx512(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(x), 1)),
+                                            _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(y), 1)), z1);
+    const __mmask8 v0 = detail::valid8Avx512(r0, lo, hi), v1 = detail::valid8Avx512(r1, lo, hi);
+    const auto valid = static_cast<__mmask16>(v0 | (static_cast<unsigned>(v1) << 8));
+    if (L.oring >= 0)
+      most = _mm512_max_epu32(most, _mm512_and_si512(_mm512_i32gather_epi32(vr, base, 1), _mm512_set1_epi32(0xFFFF)));
+    // OnGrid (1) or Invalid (0) per lane, narrowed to bytes
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out.state + i),
+                     _mm512_cvtepi32_epi8(_mm512_maskz_mov_epi32(valid, one)));
+    // the valid lanes moved to the front, stored whole
+    const __m512i index = _mm512_add_epi32(iota, _mm512_set1_epi32(static_cast<int>(i)));
+    const __m512i column = _mm512_add_epi32(iota, _mm512_set1_epi32(static_cast<int>(c)));
+    _mm512_storeu_si512(out.index + w, _mm512_maskz_compress_epi32(valid, index));
+    _mm512_storeu_si512(out.column + w, _mm512_maskz_compress_epi32(valid, column));
+    _mm512_storeu_ps(out.az + w, _mm512_maskz_compress_ps(valid, detail::fastAtan2Avx512(y, x)));
+    compressWiden(valid, x, out.x + w);
+    compressWiden(valid, y, out.y + w);
+    compressWiden(valid, z, out.z + w);
+    const unsigned n0 = static_cast<unsigned>(__builtin_popcount(v0));
+    _mm512_storeu_pd(out.range + w, _mm512_maskz_compress_pd(v0, r0));
+    _mm512_storeu_pd(out.range + w + n0, _mm512_maskz_compress_pd(v1, r1));
+    // grid positions in input order: w, w + 1, ... in the valid lanes, -1 in the others
+    const __m512i pos = _mm512_add_epi32(iota, _mm512_set1_epi32(static_cast<int>(w)));
+    _mm512_storeu_si512(out.grid_pos + i, _mm512_mask_expand_epi32(none, valid, pos));
+    // z / range of the valid lanes in column order, +0 for the others (as placeEightAvx2)
+    alignas(64) double q[16];
+    _mm512_store_pd(q, _mm512_maskz_div_pd(v0, _mm512_cvtps_pd(_mm512_castps512_ps256(z)), r0));
+    _mm512_store_pd(q + 8, _mm512_maskz_div_pd(v1, _mm512_cvtps_pd(z1), r1));
+    for (const double v : q) s += v;
+    w += n0 + static_cast<unsigned>(__builtin_popcount(v1));
+  }
+  // (stored and read back: _mm512_reduce_max_epu32 trips GCC 12's -Wuninitialized here)
+  alignas(64) std::uint32_t l[16];
+  _mm512_store_si512(l, most);
+  for (const std::uint32_t v : l) largest = std::max(largest, v);
+  sum = s;
+  return w;
+}
+#pragma GCC diagnostic pop
 #endif
 
 }  // namespace
@@ -300,9 +383,9 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   const std::size_t R = view.height, W = view.width, n = R * W;
   grid.num_input = n;
   grid.num_rings = static_cast<int>(R);
-  grid.state.resize(n + 8);  // the state stores write 8 bytes a group
+  grid.state.resize(n + 16);  // the state stores write 16 bytes a group
   grid.grid_pos.resize(n);
-  const std::size_t room = n + 8;  // the vector stores write up to 8 past the last point
+  const std::size_t room = n + 16;  // the vector stores write up to 16 past the last point
   tmp_index_.resize(room);
   sorted_az_.resize(room);
   column_.resize(room);
@@ -318,12 +401,16 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
                           grid.state.data()};
   std::size_t w = 0;
   largest = 0;
+  const bool wide = __builtin_cpu_supports("avx512f");
   for (std::size_t r = 0; r < R; ++r)
   {
     // (the last record's 32-bit ring read could pass the end of the data: the last row's last
     // group goes one column at a time)
-    const std::size_t vector_cols = (r + 1 < R || layout.oring < 0 ? W : W - 1) / 8 * 8;
-    w = readPlaceRowAvx2(view.data + r * view.row_step, layout, out, r * W, W, vector_cols, w, ring_sum_[r], largest);
+    const std::size_t cols = r + 1 < R || layout.oring < 0 ? W : W - 1;
+    const std::size_t wide_cols = wide ? cols / 16 * 16 : 0;
+    const std::uint8_t* const row = view.data + r * view.row_step;
+    if (wide_cols > 0) w = readPlaceRowAvx512(row, layout, out, r * W, wide_cols, w, ring_sum_[r], largest);
+    w = readPlaceRowAvx2(row, layout, out, r * W, W, wide_cols, cols / 8 * 8, w, ring_sum_[r], largest);
     grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
   }
   grid.state.resize(n);
