@@ -186,6 +186,7 @@ __attribute__((target("avx512f"))) std::size_t readXyzRecordsAvx512(
 {
   // every gather offset of a group (15 steps and a field offset) must fit an int32
   if (step > (1u << 26) || n < 17) return 0;
+  constexpr std::size_t kReadAhead = 256;
   const __m512i lanes = _mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0),
                                            _mm512_set1_epi32(static_cast<int>(step)));
   const __m512i vx = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(ox)));
@@ -212,6 +213,11 @@ __attribute__((target("avx512f"))) std::size_t readXyzRecordsAvx512(
       prefetchForWrite(ring_out, (i + A) * sizeof(std::int32_t));
       prefetchForWrite(grid_pos, (i + A) * sizeof(std::int32_t));
       if ((i & 63) == 0) prefetchForWrite(state, i + A);
+      // the records' lines, kReadAhead records ahead: 16 records of `step` bytes span
+      // step / 4 lines, asked for one 64-byte line at a time
+      using detail::prefetchForRead;
+      const std::size_t ahead = (i + kReadAhead) * step;
+      for (std::size_t o = 0; o < 16 * step; o += 64) prefetchForRead(data, ahead + o);
     }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),

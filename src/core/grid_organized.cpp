@@ -7,6 +7,7 @@
 #include "compress_table.hpp"
 #include "input_avx2.hpp"
 #include "input_avx512.hpp"
+#include "ring_curvature/prefetch.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -255,9 +256,13 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
   const __m512i one = _mm512_set1_epi32(static_cast<int>(PointState::OnGrid)), none = _mm512_set1_epi32(-1);
   __m512i most = _mm512_setzero_si512();
   double s = sum;
+  constexpr std::size_t kReadAhead = 256;
   for (std::size_t c = 0; c < vector_cols; c += 16)
   {
     const std::size_t i = i0 + c;
+    // the records' lines kReadAhead columns ahead (past the row's end: the next row's, or
+    // nothing; a prefetch never faults), one 64-byte line at a time
+    for (std::size_t o = 0; o < 16 * L.step; o += 64) detail::prefetchForRead(row, (c + kReadAhead) * L.step + o);
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
     const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),
                  z = _mm512_i32gather_ps(vz, base, 1);
