@@ -109,6 +109,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
 {
   // every gather offset of a group (7 steps and a field offset) must fit an int32
   if (step > (1u << 26) || n < 9) return 0;
+  constexpr std::size_t kReadAhead = 256;
   const int st = static_cast<int>(step);
   const __m256i lanes = _mm256_setr_epi32(0, st, 2 * st, 3 * st, 4 * st, 5 * st, 6 * st, 7 * st);
   const __m256i vx = _mm256_add_epi32(lanes, _mm256_set1_epi32(static_cast<int>(ox)));
@@ -136,6 +137,9 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
       prefetchForWrite(ring_out, (i + A) * sizeof(std::int32_t));
       prefetchForWrite(grid_pos, (i + A) * sizeof(std::int32_t));
       if ((i & 63) == 0) prefetchForWrite(state, i + A);
+      // the records' lines kReadAhead records ahead (see readXyzRecordsAvx512)
+      const std::size_t ahead = (i + kReadAhead) * step;
+      for (std::size_t o = 0; o < 8 * step; o += 64) detail::prefetchForRead(data, ahead + o);
     }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),

@@ -199,9 +199,11 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   __m256i most = _mm256_setzero_si256();
   double s = sum;
   std::size_t c = first;
+  constexpr std::size_t kReadAhead = 256;  // (see readPlaceRowAvx512)
   for (; c < vector_cols; c += 8)
   {
     const std::size_t i = i0 + c;
+    for (std::size_t o = 0; o < 8 * L.step; o += 64) detail::prefetchForRead(row, (c + kReadAhead) * L.step + o);
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
     const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
                  z = _mm256_i32gather_ps(base, vz, 1);
