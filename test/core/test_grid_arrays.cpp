@@ -25,7 +25,8 @@ constexpr double kDeg = 3.14159265358979323846 / 180;
 // after its last) and the ring's last one, the circularly nearest, the first of equals in that
 // order. Rings of unlike densities (7 to 3600 samples), gaps of every length on both rings,
 // shifted starts and an empty ring: the grouped search must fall back wherever its window of
-// sixteen samples above does not hold the answer.
+// sixteen samples above (32 for the sixteen-lane AVX-512 form) does not hold the answer. A
+// 1800-sample ring under a 3600 one carries the AVX-512 form's count to 32.
 TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
 {
   constexpr double kPiD = 3.14159265358979323846;
