@@ -1,5 +1,5 @@
-// cutRing's AVX2 form (PrimitiveExtractor::extract), in a file of its own: primitives.cpp would
-// otherwise outgrow the 600-line limit.
+// cutRing's AVX2 and AVX-512 forms and the index fill's AVX2 form (PrimitiveExtractor::extract),
+// in a file of its own: primitives.cpp would otherwise outgrow the 600-line limit.
 #pragma once
 
 #include "ring_curvature/primitives.hpp"
@@ -26,6 +26,15 @@ void fillRunsAvx2(const PrimitiveExtractor::Run* runs, std::size_t num_runs, con
                   const std::int32_t* comp, const std::uint32_t* ring_begin, PrimitiveInfo* prims,
                   const std::uint32_t* index, std::uint32_t* indices, std::uint32_t* slot_pos, std::int32_t* of_grid,
                   std::uint32_t m);
+
+/// cutRingAvx2 sixteen positions at a time: the same contract, but reads join[] up to e + 16,
+/// writes run[] up to e + 15, and begins / ends need e - b + 16 entries. Only with AVX-512F and
+/// POPCNT.
+std::size_t cutRingAvx512(std::uint32_t b, std::uint32_t e, const Label* lab, const std::uint8_t* join,
+                          std::uint8_t num_wanted, std::uint32_t none, std::uint32_t* parent, std::uint32_t* run,
+                          std::int32_t* comp, PrimitiveExtractor::Run* runs, std::size_t num_runs,
+                          std::uint32_t* begins, std::uint32_t* ends);
+
 #endif
 
 }  // namespace ring_curvature

@@ -287,14 +287,14 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   // at most one run per position; num_runs counts the ones in use. Id m (none): the unwanted
   // labels' positions, one more entry in parent and comp.
   parent_.resize(m + 1);
-  run_.resize(m + 8);  // (cutRingAvx2 writes up to 7 entries past a ring, reads join 8 past it)
+  run_.resize(m + 16);  // (cutRingAvx512 writes up to 15 entries past a ring, reads join 16 past it)
   runs_.resize(m);
   comp_.resize(m + 1);
   roots_.resize(m);
   grid_size_.resize(m);
   join_.resize(m + 16);
-  run_begins_.resize(m + 8);
-  run_ends_.resize(m + 8);
+  run_begins_.resize(m + 16);
+  run_ends_.resize(m + 16);
 
   // a table: this is asked once or more per grid position in every loop below. Lambdas in the
   // loops capture by value: through a reference capture the compiler read the captured locals
@@ -338,6 +338,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   parent[none] = none;
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx2 = __builtin_cpu_supports("avx2");
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt");
 #endif
   // A component's size is counted at its root. A duplicate of an unwanted label's position
   // counts at `none`, which starts far below zero: it counts without a test and its component
@@ -352,7 +353,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     {
       angularJoins(b, e, lab, linked, range, azimuth, num_wanted, range_ratio, range_min, az_tol, join);
 #if defined(RC_SIMD_CLONES_ON)
-      if (avx2)
+      if (avx512)
+        num_runs = cutRingAvx512(b, e, lab, join, num_wanted, none, parent, run, comp, runs, num_runs,
+                                 run_begins_.data(), run_ends_.data());
+      else if (avx2)
         num_runs = cutRingAvx2(b, e, lab, join, num_wanted, none, parent, run, comp, runs, num_runs,
                                run_begins_.data(), run_ends_.data());
       else

@@ -1,9 +1,11 @@
-// The primitives' run cut eight positions at a time (cutRingAvx2) against the run loop it
-// replaces on AVX2 machines: the same run id at every position, the same runs, forest and counts,
-// for rings of every length and start (not multiples of eight), any labels, and join bytes
-// outside the ring (join[b] is never written by the extractor) that must be ignored.
+// The primitives' run cut eight (cutRingAvx2) and sixteen (cutRingAvx512) positions at a time
+// against the run loop they replace: the same run id at every position, the same runs, forest
+// and counts, for rings of every length and start (not multiples of eight or sixteen), any
+// labels, and join bytes outside the ring (join[b] is never written by the extractor) that must
+// be ignored. And the index fill's AVX2 form against its plain loop.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -37,7 +39,8 @@ void referenceCut(std::uint32_t b, std::uint32_t e, const std::vector<Label>& la
     for (std::uint32_t r = p; r < q; ++r) c.run[r] = wanted ? id : none;
     if (wanted)
     {
-      c.runs[c.num_runs] = {p, q, 0};
+      c.runs[c.num_runs].begin = p;  // (rank: the caller's, not written)
+      c.runs[c.num_runs].end = q;
       c.parent[c.num_runs] = id;
       c.comp[c.num_runs] = 0;
       ++c.num_runs;
@@ -45,11 +48,13 @@ void referenceCut(std::uint32_t b, std::uint32_t e, const std::vector<Label>& la
     p = q;
   }
 }
-}  // namespace
 
-TEST(PrimitiveRuns, EightAtATimeCutIsTheRunLoops)
+using CutFn = std::size_t (*)(std::uint32_t, std::uint32_t, const Label*, const std::uint8_t*, std::uint8_t,
+                              std::uint32_t, std::uint32_t*, std::uint32_t*, std::int32_t*, PrimitiveExtractor::Run*,
+                              std::size_t, std::uint32_t*, std::uint32_t*);
+
+void checkCut(CutFn cut)
 {
-  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("popcnt")) GTEST_SKIP() << "no AVX2";
   std::mt19937 rng(5);
   const auto r = [&rng](std::uint32_t n) { return static_cast<std::uint32_t>(rng() % n); };
   const std::uint32_t m = 200;
@@ -71,15 +76,18 @@ TEST(PrimitiveRuns, EightAtATimeCutIsTheRunLoops)
     }
     const std::uint32_t none = m;
     const std::size_t first = r(5);
-    Cut ref{std::vector<std::uint32_t>(m + 8, 7), std::vector<std::uint32_t>(m + 1, 9),
-            std::vector<std::int32_t>(m + 1, 5), std::vector<PrimitiveExtractor::Run>(m), first};
+    Cut ref{std::vector<std::uint32_t>(m + 16, 7), std::vector<std::uint32_t>(m + 1, 9),
+            std::vector<std::int32_t>(m + 1, 5), std::vector<PrimitiveExtractor::Run>(m + 16, {11, 12, 13}), first};
     Cut got = ref;
     referenceCut(b, e, lab, join, num_wanted, none, ref);
-    std::vector<std::uint32_t> begins(m + 8), ends(m + 8);
-    got.num_runs = cutRingAvx2(b, e, lab.data(), join.data(), num_wanted, none, got.parent.data(), got.run.data(),
-                               got.comp.data(), got.runs.data(), first, begins.data(), ends.data());
+    std::vector<std::uint32_t> begins(m + 16), ends(m + 16);
+    got.num_runs = cut(b, e, lab.data(), join.data(), num_wanted, none, got.parent.data(), got.run.data(),
+                       got.comp.data(), got.runs.data(), first, begins.data(), ends.data());
     ASSERT_EQ(got.num_runs, ref.num_runs) << "trial " << trial;
     for (std::uint32_t p = b; p < e; ++p) ASSERT_EQ(got.run[p], ref.run[p]) << "trial " << trial << " p " << p;
+    // nothing before the ring, nor past the 15 entries the contract allows
+    for (std::uint32_t p = 0; p < b; ++p) ASSERT_EQ(got.run[p], 7u) << "trial " << trial << " p " << p;
+    for (std::uint32_t p = e + 15; p < m + 16; ++p) ASSERT_EQ(got.run[p], 7u) << "trial " << trial << " p " << p;
     for (std::size_t k = first; k < ref.num_runs; ++k)
     {
       ASSERT_EQ(got.runs[k].begin, ref.runs[k].begin) << "trial " << trial << " run " << k;
@@ -87,8 +95,121 @@ TEST(PrimitiveRuns, EightAtATimeCutIsTheRunLoops)
       ASSERT_EQ(got.parent[k], ref.parent[k]);
       ASSERT_EQ(got.comp[k], ref.comp[k]);
     }
+    // nothing past the ring's runs (parent and comp of `none` may follow them), no rank written
+    for (std::size_t k = 0; k < m + 1; ++k) ASSERT_EQ(got.parent[k], ref.parent[k]) << "trial " << trial;
+    for (std::size_t k = 0; k < m + 1; ++k) ASSERT_EQ(got.comp[k], ref.comp[k]) << "trial " << trial;
+    for (std::size_t k = 0; k < m + 16; ++k)
+    {
+      ASSERT_EQ(got.runs[k].begin, ref.runs[k].begin) << "trial " << trial << " run " << k;
+      ASSERT_EQ(got.runs[k].end, ref.runs[k].end) << "trial " << trial << " run " << k;
+      ASSERT_EQ(got.runs[k].rank, 13u) << "trial " << trial << " run " << k;
+    }
     checked += static_cast<int>(ref.num_runs - first);
   }
   EXPECT_GT(checked, 10000);
+}
+
+using FillFn = void (*)(const PrimitiveExtractor::Run*, std::size_t, const std::uint32_t*, const std::int32_t*,
+                        const std::uint32_t*, PrimitiveInfo*, const std::uint32_t*, std::uint32_t*, std::uint32_t*,
+                        std::int32_t*, std::uint32_t);
+
+// What the fill writes (the plain loop of extract, one position at a time): each reported run's
+// input indices and grid positions at its primitive's slots, its id at its positions in of_grid,
+// -1 everywhere else below m, and the primitives' lowest and highest rings.
+void referenceFill(const std::vector<PrimitiveExtractor::Run>& runs, const std::vector<std::uint32_t>& parent,
+                   const std::vector<std::int32_t>& comp, const std::vector<std::uint32_t>& ring_begin,
+                   std::vector<PrimitiveInfo>& prims, const std::vector<std::uint32_t>& index,
+                   std::vector<std::uint32_t>& indices, std::vector<std::uint32_t>& slot_pos,
+                   std::vector<std::int32_t>& of_grid, std::uint32_t m)
+{
+  for (std::uint32_t p = 0; p < m; ++p) of_grid[p] = -1;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+  {
+    const std::int32_t id = comp[parent[k]];
+    if (id < 0) continue;
+    int n = 0;
+    while (runs[k].begin >= ring_begin[n + 1]) ++n;
+    PrimitiveInfo& pr = prims[id];
+    if (runs[k].rank == 0) pr.ring_min = static_cast<std::uint16_t>(n);
+    pr.ring_max = static_cast<std::uint16_t>(n);
+    for (std::uint32_t p = runs[k].begin, q = pr.first + runs[k].rank; p < runs[k].end; ++p, ++q)
+    {
+      of_grid[p] = id;
+      indices[q] = index[p];
+      slot_pos[q] = p;
+    }
+  }
+}
+
+// Random runs in grid order (lengths 1 to 40, across multiples of eight and sixteen), with gaps
+// (unwanted positions), some rejected (comp -1), the others spread over a few primitives.
+void checkFill(FillFn fill)
+{
+  std::mt19937 rng(11);
+  const auto r = [&rng](std::uint32_t n) { return static_cast<std::uint32_t>(rng() % n); };
+  for (int trial = 0; trial < 500; ++trial)
+  {
+    const std::uint32_t m = 50 + r(400), num_prims = 1 + r(6);
+    std::vector<PrimitiveExtractor::Run> runs;
+    std::vector<std::int32_t> comp;
+    std::vector<std::uint32_t> parent, size(num_prims, 0);
+    for (std::uint32_t p = r(20); p < m;)
+    {
+      const std::uint32_t t = std::min(m, p + 1 + r(r(2) ? 40 : 8));
+      const auto id = r(5) == 0 ? -1 : static_cast<std::int32_t>(r(num_prims));
+      runs.push_back({p, t, id < 0 ? 0 : size[static_cast<std::size_t>(id)]});
+      if (id >= 0) size[static_cast<std::size_t>(id)] += t - p;
+      parent.push_back(static_cast<std::uint32_t>(comp.size()));
+      comp.push_back(id);
+      p = t + (r(3) == 0 ? r(30) : 0);
+    }
+    std::vector<PrimitiveInfo> prims(num_prims);
+    std::uint32_t total = 0;
+    for (std::uint32_t i = 0; i < num_prims; ++i)
+    {
+      prims[i].first = total;
+      total += size[i];
+    }
+    std::vector<std::uint32_t> ring_begin{0};
+    while (ring_begin.back() < m) ring_begin.push_back(std::min(m, ring_begin.back() + 1 + r(100)));
+    std::vector<std::uint32_t> index(m);
+    for (auto& i : index) i = static_cast<std::uint32_t>(rng());
+    // sentinels past the ends: nothing beyond m, total
+    std::vector<std::uint32_t> indices(total + 16, 3), slot_pos(total + 16, 4);
+    std::vector<std::int32_t> of_grid(m + 16, 5);
+    auto ref_prims = prims;
+    auto ref_indices = indices, ref_slot_pos = slot_pos;
+    auto ref_of_grid = of_grid;
+    referenceFill(runs, parent, comp, ring_begin, ref_prims, index, ref_indices, ref_slot_pos, ref_of_grid, m);
+    fill(runs.data(), runs.size(), parent.data(), comp.data(), ring_begin.data(), prims.data(), index.data(),
+         indices.data(), slot_pos.data(), of_grid.data(), m);
+    ASSERT_EQ(of_grid, ref_of_grid) << "trial " << trial;
+    ASSERT_EQ(indices, ref_indices) << "trial " << trial;
+    ASSERT_EQ(slot_pos, ref_slot_pos) << "trial " << trial;
+    for (std::uint32_t i = 0; i < num_prims; ++i)
+    {
+      ASSERT_EQ(prims[i].ring_min, ref_prims[i].ring_min) << "trial " << trial;
+      ASSERT_EQ(prims[i].ring_max, ref_prims[i].ring_max) << "trial " << trial;
+    }
+  }
+}
+}  // namespace
+
+TEST(PrimitiveRuns, EightWideFillIsThePlainLoops)
+{
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2";
+  checkFill(fillRunsAvx2);
+}
+
+TEST(PrimitiveRuns, EightAtATimeCutIsTheRunLoops)
+{
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("popcnt")) GTEST_SKIP() << "no AVX2";
+  checkCut(cutRingAvx2);
+}
+
+TEST(PrimitiveRuns, SixteenAtATimeCutIsTheRunLoops)
+{
+  if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("popcnt")) GTEST_SKIP() << "no AVX-512F";
+  checkCut(cutRingAvx512);
 }
 #endif
