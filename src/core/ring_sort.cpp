@@ -5,6 +5,7 @@
 
 #include "angles.hpp"
 #include "grow.hpp"
+#include "ring_sort_avx512.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -117,11 +118,11 @@ RC_SIMD_CLONES void splitKeys(std::size_t m, const std::uint64_t* __restrict key
 
 // The azimuth steps of a ring's keys in their order, step[j] = az[j] - az[j - 1] (j >= 1), a flag
 // where a step goes beyond -pi or pi, and how many steps go down.
-RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, std::size_t k, float* __restrict step,
-                                          std::uint8_t* __restrict wide)
+RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, std::size_t from, std::size_t k,
+                                          float* __restrict step, std::uint8_t* __restrict wide)
 {
   std::uint32_t down = 0;
-  for (std::size_t j = 1; j < k; ++j)
+  for (std::size_t j = from; j < k; ++j)
   {
     const float d = keyAzimuth(src[j]) - keyAzimuth(src[j - 1]);
     step[j] = d;
@@ -129,6 +130,18 @@ RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, s
     down += d < 0.0f ? 1u : 0u;
   }
   return down;
+}
+
+// The sort keys of points [i0, i0 + len), sixteen at a time on AVX-512, the rest in sortKeys.
+void makeKeys(bool avx512, const float* az, std::size_t i0, std::size_t len, std::uint64_t* key)
+{
+  std::size_t done = 0;
+#if defined(RC_SIMD_CLONES_ON)
+  if (avx512) done = detail::sortKeysAvx512(az, i0, len, key);
+#else
+  (void)avx512;
+#endif
+  sortKeys(az + done, i0 + done, len - done, key + done);
 }
 }  // namespace
 
@@ -235,7 +248,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     RingFold f{};
     std::uint32_t nx = 0;
 #if defined(RC_SIMD_CLONES_ON)
-    const bool avx2 = __builtin_cpu_supports("avx2");
+    const bool avx2 = __builtin_cpu_supports("avx2"), avx512 = __builtin_cpu_supports("avx512f");
 #endif
     // Points [from, to) in input order, folding or not. Without folding, the stretches of the
     // current ring get their keys in one call (ringStretchAvx2, sortKeys); this loop takes the
@@ -249,7 +262,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
           if (avx2 && cur >= 0)
           {
             const std::size_t k = ringStretchAvx2(ring_of, i, to, cur);
-            sortKeys(paz + i, i, k, unsorted + nx);
+            makeKeys(avx512, paz + i, i, k, unsorted + nx);
             nx += static_cast<std::uint32_t>(k);
             i += k;
             if (i >= to) break;
@@ -319,10 +332,15 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
   std::uint64_t* __restrict const unsorted = keys_tmp_.data();
   constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
   alignas(32) std::uint64_t keys[kBlock];
+#if defined(RC_SIMD_CLONES_ON)
+  const bool avx512 = __builtin_cpu_supports("avx512f");
+#else
+  const bool avx512 = false;
+#endif
   for (std::size_t i0 = from; i0 < to; i0 += kBlock)
   {
     const std::size_t len = std::min(kBlock, to - i0);
-    sortKeys(paz + i0, i0, len, keys);
+    makeKeys(avx512, paz + i0, i0, len, keys);
     for (std::size_t j = 0; j < len; ++j)
     {
       const std::int32_t r = ring_of[i0 + j];
@@ -345,7 +363,13 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
   // or twice a ring) are then found eight flags at a time, and compared in order.
   growTo(steps_, k);
   growTo(wide_, k);
-  const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
+  // (sixteen steps at a time on AVX-512, the rest in the clone)
+  std::size_t from = 1;
+  std::uint32_t down = 0;
+#if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx512f")) from = detail::arrivalStepsAvx512(src, k, steps_.data(), wide_.data(), down);
+#endif
+  down += arrivalSteps(src, from, k, steps_.data(), wide_.data());
   std::uint32_t wrap_fwd = 0, wrap_bwd = 0;
   {
     float drop = -kPi, rise = kPi;
