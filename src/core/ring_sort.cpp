@@ -331,7 +331,7 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
   std::uint32_t* __restrict const next = bin_start_.data();
   std::uint64_t* __restrict const unsorted = keys_tmp_.data();
   constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
-  alignas(32) std::uint64_t keys[kBlock];
+  alignas(64) std::uint64_t keys[kBlock];  // (64: whole cache lines for the AVX-512 stores)
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx512 = __builtin_cpu_supports("avx512f");
 #else
