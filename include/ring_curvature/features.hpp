@@ -20,9 +20,9 @@ struct Features
   std::vector<float> discontinuity;  ///< D (Paper: [0,1]; Jump: relative prediction error)
 };
 
-/// Which version of the core's hot loops this CPU runs: "avx2", "avx2, features avx512f" (the
-/// feature kernels in AVX-512) or "baseline" (x86-64 without AVX2, other architectures, or a
-/// build with RC_SIMD_CLONES=OFF). All give the same bits.
+/// Which version of the core's hot loops this CPU runs: "avx2", "avx2, avx512f (...)" (the
+/// feature kernels and the hand-written kernels listed in AVX-512) or "baseline" (x86-64 without
+/// AVX2, other architectures, or a build with RC_SIMD_CLONES=OFF). All give the same bits.
 const char* coreLoopsIsa();
 
 class FeatureComputer

@@ -190,7 +190,7 @@ struct RingCtx
 const char* coreLoopsIsa()
 {
 #if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_supports("avx512f")) return "avx2, features avx512f";
+  if (__builtin_cpu_supports("avx512f")) return "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
   return __builtin_cpu_supports("avx2") ? "avx2" : "baseline";
 #else
   return "baseline";
