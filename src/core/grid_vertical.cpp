@@ -191,7 +191,8 @@ __attribute__((target("avx512f"), always_inline)) inline bool verticalGroup16(co
   const float* const w = az + q;
   const __m512 n0 = _mm512_loadu_ps(w + 1), n1 = _mm512_loadu_ps(w + 17);  // az[q + 1 + k], k 0..31
   const __m512 end = _mm512_set1_ps(az[p + 15]);
-  const unsigned below = _mm512_cmp_ps_mask(n0, end, _CMP_LE_OQ) | (static_cast<unsigned>(_mm512_cmp_ps_mask(n1, end, _CMP_LE_OQ)) << 16);
+  const unsigned below = _mm512_cmp_ps_mask(n0, end, _CMP_LE_OQ) |
+                         (static_cast<unsigned>(_mm512_cmp_ps_mask(n1, end, _CMP_LE_OQ)) << 16);
   const int last = __builtin_popcount(below);
   const __mmask16 nan = _mm512_cmp_ps_mask(a, a, _CMP_UNORD_Q) | _mm512_cmp_ps_mask(n0, n1, _CMP_UNORD_Q);
   if (nan != 0 || last == 32) return verticalGroup(az, up, s);
@@ -211,7 +212,8 @@ __attribute__((target("avx512f"), always_inline)) inline bool verticalGroup16(co
   const __m512i pos = _mm512_add_epi32(_mm512_set1_epi32(static_cast<std::int32_t>(q)), cnt);
   const __m512i best = _mm512_mask_add_epi32(pos, m1, pos, _mm512_set1_epi32(1));  // the successor where nearer
   const __mmask16 m2 = _mm512_cmp_ps_mask(d2, _mm512_min_ps(d1, d0), _CMP_LT_OQ);   // min: d1 < d0 ? d1 : d0
-  _mm512_storeu_si512(up + p, _mm512_mask_blend_epi32(m2, best, _mm512_set1_epi32(static_cast<std::int32_t>(s.ue - 1))));
+  const __m512i top = _mm512_set1_epi32(static_cast<std::int32_t>(s.ue - 1));  // the ring's last sample
+  _mm512_storeu_si512(up + p, _mm512_mask_blend_epi32(m2, best, top));
   s.q = q + static_cast<std::uint32_t>(last);
   s.p = p + 16;
   return true;
@@ -284,7 +286,8 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
       if (s0.p < s0.e && s1.p < s1.e)
         avx512 ? verticalGroupsAvx512(az, up, s0, s1) : verticalGroupsAvx2(az, up, s0, s1);
       else
-        avx512 ? verticalGroupsAvx512(az, up, s0.p < s0.e ? s0 : s1) : verticalGroupsAvx2(az, up, s0.p < s0.e ? s0 : s1);
+        avx512 ? verticalGroupsAvx512(az, up, s0.p < s0.e ? s0 : s1)
+               : verticalGroupsAvx2(az, up, s0.p < s0.e ? s0 : s1);
       for (VerticalStream* s : {&s0, &s1})
         if (s->stuck) verticalWalk(az, up, *s, 8);
     }

@@ -186,7 +186,8 @@ __attribute__((target("avx512f,popcnt"))) std::size_t cutRingAvx512(
     const __m256i lo = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPrefix.lane[ws & 0xFFu]));
     const __m256i hi = _mm256_add_epi32(
         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPrefix.lane[ws >> 8])), _mm256_set1_epi32(low));
-    const __m512i ids = _mm512_add_epi32(_mm512_inserti64x4(_mm512_castsi256_si512(lo), hi, 1), _mm512_set1_epi32(last));
+    const __m512i ids =
+        _mm512_add_epi32(_mm512_inserti64x4(_mm512_castsi256_si512(lo), hi, 1), _mm512_set1_epi32(last));
     _mm512_storeu_si512(run + p, _mm512_mask_blend_epi32(static_cast<__mmask16>(W), none16, ids));
     const __m512i pos = _mm512_add_epi32(lane, _mm512_set1_epi32(static_cast<int>(p)));
     _mm512_storeu_si512(begins + nb, _mm512_maskz_compress_epi32(static_cast<__mmask16>(ws), pos));

@@ -149,8 +149,10 @@ __attribute__((target("avx512f,popcnt"))) std::uint32_t foldAvx512(std::uint64_t
     const __m512i key2 = _mm512_alignr_epi64(key, prev, 6), r2 = _mm512_alignr_epi64(r, prev_r, 6);
     const __m512i key1 = _mm512_alignr_epi64(key, prev, 7), r1 = _mm512_alignr_epi64(r, prev_r, 7);
     const __m512i az = _mm512_srli_epi64(key, 32);
-    const __mmask8 same1 = _mm512_mask_cmpeq_epi64_mask(_mm512_cmpeq_epi64_mask(r, r1), az, _mm512_srli_epi64(key1, 32));
-    const __mmask8 same2 = _mm512_mask_cmpeq_epi64_mask(_mm512_cmpeq_epi64_mask(r, r2), az, _mm512_srli_epi64(key2, 32));
+    const __mmask8 same1 =
+        _mm512_mask_cmpeq_epi64_mask(_mm512_cmpeq_epi64_mask(r, r1), az, _mm512_srli_epi64(key1, 32));
+    const __mmask8 same2 =
+        _mm512_mask_cmpeq_epi64_mask(_mm512_cmpeq_epi64_mask(r, r2), az, _mm512_srli_epi64(key2, 32));
     const auto same = static_cast<__mmask8>(same1 | same2), keep = static_cast<__mmask8>(~same);
     _mm512_storeu_si512(keys + kept, _mm512_maskz_compress_epi64(keep, key));
     kept += static_cast<std::uint32_t>(__builtin_popcount(keep));

@@ -50,7 +50,8 @@ Frame organizedFrame(int rows, std::size_t cols, unsigned seed)
       }
       const double az = 2 * 3.14159265358979 * static_cast<double>(c) / static_cast<double>(cols);
       const double el = -0.3 + 0.6 * ring / rows;
-      const double r = k % 11 == 5 && row != 7 ? 0.05 : 4.0 + 2.0 * std::sin(3 * az) + 0.01 * u(rng);  // 0.05: below min_range
+      // 0.05: below min_range
+      const double r = k % 11 == 5 && row != 7 ? 0.05 : 4.0 + 2.0 * std::sin(3 * az) + 0.01 * u(rng);
       auto x = static_cast<float>(r * std::cos(el) * std::cos(az));
       auto y = static_cast<float>(r * std::cos(el) * std::sin(az));
       const auto z = static_cast<float>(r * std::sin(el));

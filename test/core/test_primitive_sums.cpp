@@ -23,7 +23,8 @@ void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, cons
                const std::vector<double>& gy, const std::vector<double>& gz, PrimitiveSums& out)
 {
   float lo[3], hi[3], sum[3] = {0, 0, 0};
-  for (int i = 0; i < 3; ++i) lo[i] = hi[i] = static_cast<float>((i == 0 ? gx : i == 1 ? gy : gz)[sp[0]]);  // the first point
+  // the first point starts the box
+  for (int i = 0; i < 3; ++i) lo[i] = hi[i] = static_cast<float>((i == 0 ? gx : i == 1 ? gy : gz)[sp[0]]);
   for (std::uint32_t k = 0; k < np; ++k)
   {
     const float v[3] = {static_cast<float>(gx[sp[k]]), static_cast<float>(gy[sp[k]]), static_cast<float>(gz[sp[k]])};
