@@ -173,11 +173,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
 #endif
 
 #if defined(RC_SIMD_CLONES_ON)
-// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
-// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
-// off for the AVX-512 function alone.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // readXyzRecordsAvx2 sixteen points at a time with AVX-512F: the same operations lane by lane
 // (input_avx512.hpp). Half the instructions a point: the azimuth polynomial, the range and the
 // stores were the pass's cost more than its gathers. Same contract as readXyzRecordsAvx2 (the
@@ -254,7 +250,7 @@ __attribute__((target("avx512f"))) std::size_t readXyzRecordsAvx512(
   max_read = std::max(max_read, _mm512_reduce_max_epu32(largest));
   return i;
 }
-#pragma GCC diagnostic pop
+RC_AVX512_END
 #endif
 
 // The input pass over records [0, n) (see readXyzRecords): with AVX-512 sixteen at a time, with

@@ -226,11 +226,7 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   return w;
 }
 
-// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
-// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
-// off for the AVX-512 function alone.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // The lanes of v in `keep` moved to the front and widened to double, stored whole at `to`.
 __attribute__((target("avx512f"), always_inline)) inline void compressWiden(__mmask16 keep, __m512 v, double* to)
 {
@@ -309,7 +305,7 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
   sum = s;
   return w;
 }
-#pragma GCC diagnostic pop
+RC_AVX512_END
 #endif
 
 }  // namespace

@@ -160,10 +160,7 @@ __attribute__((target("avx2"))) void verticalGroupsAvx2(const float* __restrict 
   }
 }
 
-#pragma GCC diagnostic push
-// GCC 12's AVX-512 intrinsics start from _mm512_undefined_*() values, which -Wmaybe-uninitialized
-// reports once they are inlined; nothing here reads an undefined lane.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // circDist8 sixteen lanes at a time: AVX-512F has no float and-not (AVX-512DQ has), so |d| is an
 // integer and of the bits; vminps keeps its semantics.
 __attribute__((target("avx512f"))) inline __m512 circDist16(__m512 d)
@@ -234,7 +231,7 @@ __attribute__((target("avx512f"))) void verticalGroupsAvx512(const float* __rest
   {
   }
 }
-#pragma GCC diagnostic pop
+RC_AVX512_END
 #endif
 
 // Organized: the grid position of the point one row up of each position p < m.

@@ -144,11 +144,7 @@ constexpr TripleTable makeTripleTable()
 }
 inline constexpr TripleTable kTriples = makeTripleTable();
 
-// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
-// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
-// off for the AVX-512 function alone.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // cutRingAvx2 sixteen positions a step. The byte compares stay SSE2 (their movemasks are the
 // masks: AVX-512F has no byte compares, and BW would add a feature to check for nothing); the
 // begins and ends are left-packed by vpcompressd into a register (no table) and stored whole;
@@ -224,7 +220,7 @@ __attribute__((target("avx512f,popcnt"))) std::size_t cutRingAvx512(
   return num_runs + nb;
 }
 
-#pragma GCC diagnostic pop
+RC_AVX512_END
 #endif
 
 }  // namespace ring_curvature

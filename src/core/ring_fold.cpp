@@ -116,11 +116,7 @@ __attribute__((target("avx2,popcnt"))) std::uint32_t foldAvx2(std::uint64_t* key
   return j;
 }
 
-// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
-// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
-// off for the AVX-512 function alone.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // foldAvx2 eight keys at a time with AVX-512F: the keys one and two places back by one valignq
 // each, the comparisons as mask registers, and the left-packing by vpcompressq (no table). The
 // packed stores are whole vectors, as in foldAvx2 (up to 7 followers past the count). Same
@@ -174,7 +170,7 @@ __attribute__((target("avx512f,popcnt"))) std::uint32_t foldAvx512(std::uint64_t
   num_followers = count;
   return j;
 }
-#pragma GCC diagnostic pop
+RC_AVX512_END
 #endif
 }  // namespace
 

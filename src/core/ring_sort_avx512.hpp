@@ -20,11 +20,7 @@ namespace ring_curvature
 {
 namespace detail
 {
-// GCC 12's AVX-512 intrinsics pass _mm512_undefined_*() as the unused source of their masked
-// builtins, which -Wmaybe-uninitialized reports once they are inlined (a known false positive):
-// off for these functions alone.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 
 // A key's azimuth bits from its top half (keyAzimuth): top bit set, clear it; else all bits flip.
 __attribute__((target("avx512f"))) inline __m512i keyAzimuthBitsAvx512(__m512i k)
@@ -93,7 +89,7 @@ __attribute__((target("avx512f"))) inline std::size_t arrivalStepsAvx512(const s
   return j;
 }
 
-#pragma GCC diagnostic pop
+RC_AVX512_END
 
 }  // namespace detail
 }  // namespace ring_curvature
