@@ -109,7 +109,6 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
 {
   // every gather offset of a group (7 steps and a field offset) must fit an int32
   if (step > (1u << 26) || n < 9) return 0;
-  constexpr std::size_t kReadAhead = 256;
   const int st = static_cast<int>(step);
   const __m256i lanes = _mm256_setr_epi32(0, st, 2 * st, 3 * st, 4 * st, 5 * st, 6 * st, 7 * st);
   const __m256i vx = _mm256_add_epi32(lanes, _mm256_set1_epi32(static_cast<int>(ox)));
@@ -137,9 +136,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
       prefetchForWrite(ring_out, (i + A) * sizeof(std::int32_t));
       prefetchForWrite(grid_pos, (i + A) * sizeof(std::int32_t));
       if ((i & 63) == 0) prefetchForWrite(state, i + A);
-      // the records' lines kReadAhead records ahead (see readXyzRecordsAvx512)
-      const std::size_t ahead = (i + kReadAhead) * step;
-      for (std::size_t o = 0; o < 8 * step; o += 64) detail::prefetchForRead(data, ahead + o);
+      detail::prefetchRecords(data, i + detail::kRecordsAhead, 8, step, ox);  // (see the AVX-512 form)
     }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
@@ -186,7 +183,6 @@ __attribute__((target("avx512f"))) std::size_t readXyzRecordsAvx512(
 {
   // every gather offset of a group (15 steps and a field offset) must fit an int32
   if (step > (1u << 26) || n < 17) return 0;
-  constexpr std::size_t kReadAhead = 256;
   const __m512i lanes = _mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0),
                                            _mm512_set1_epi32(static_cast<int>(step)));
   const __m512i vx = _mm512_add_epi32(lanes, _mm512_set1_epi32(static_cast<int>(ox)));
@@ -213,11 +209,8 @@ __attribute__((target("avx512f"))) std::size_t readXyzRecordsAvx512(
       prefetchForWrite(ring_out, (i + A) * sizeof(std::int32_t));
       prefetchForWrite(grid_pos, (i + A) * sizeof(std::int32_t));
       if ((i & 63) == 0) prefetchForWrite(state, i + A);
-      // the records' lines, kReadAhead records ahead: 16 records of `step` bytes span
-      // step / 4 lines, asked for one 64-byte line at a time
-      using detail::prefetchForRead;
-      const std::size_t ahead = (i + kReadAhead) * step;
-      for (std::size_t o = 0; o < 16 * step; o += 64) prefetchForRead(data, ahead + o);
+      // the records a few kilobytes ahead: the gathers below waited for them (perf)
+      detail::prefetchRecords(data, i + detail::kRecordsAhead, 16, step, ox);
     }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),

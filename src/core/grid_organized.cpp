@@ -199,11 +199,10 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   __m256i most = _mm256_setzero_si256();
   double s = sum;
   std::size_t c = first;
-  constexpr std::size_t kReadAhead = 256;  // (see readPlaceRowAvx512)
   for (; c < vector_cols; c += 8)
   {
     const std::size_t i = i0 + c;
-    for (std::size_t o = 0; o < 8 * L.step; o += 64) detail::prefetchForRead(row, (c + kReadAhead) * L.step + o);
+    detail::prefetchRecords(row, c + detail::kRecordsAhead, 8, L.step, L.ox);  // (see readPlaceRowAvx512)
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
     const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
                  z = _mm256_i32gather_ps(base, vz, 1);
@@ -254,13 +253,12 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
   const __m512i one = _mm512_set1_epi32(static_cast<int>(PointState::OnGrid)), none = _mm512_set1_epi32(-1);
   __m512i most = _mm512_setzero_si512();
   double s = sum;
-  constexpr std::size_t kReadAhead = 256;
   for (std::size_t c = 0; c < vector_cols; c += 16)
   {
     const std::size_t i = i0 + c;
-    // the records' lines kReadAhead columns ahead (past the row's end: the next row's, or
-    // nothing; a prefetch never faults), one 64-byte line at a time
-    for (std::size_t o = 0; o < 16 * L.step; o += 64) detail::prefetchForRead(row, (c + kReadAhead) * L.step + o);
+    // the records a few kilobytes ahead (past the row's end: the next row's, or nothing; a
+    // prefetch never faults)
+    detail::prefetchRecords(row, c + detail::kRecordsAhead, 16, L.step, L.ox);
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
     const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),
                  z = _mm512_i32gather_ps(vz, base, 1);
