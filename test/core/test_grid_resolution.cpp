@@ -21,13 +21,7 @@ namespace
 // 0.2 deg steps.
 ScannedFrame roomOnGround()
 {
-  RayScene s;
-  s.ground_z = -1.8;
-  s.boxes.push_back({6.0, 0.0, -5, 5, 0.1, 6.1, 0});
-  s.boxes.push_back({-6.0, 0.0, -5, 5, 0.1, 6.1, 0});
-  s.boxes.push_back({0.0, 6.0, -5, 5, 6.1, 0.1, 0});
-  s.boxes.push_back({0.0, -6.0, -5, 5, 6.1, 0.1, 0});
-  return scan(s, SensorModel::uniform(16, -15, 15, 0.2), 0.005, 3);
+  return scan(squareRoom(-1.8), SensorModel::uniform(16, -15, 15, 0.2), 0.005, 3);
 }
 
 // The grid's constants, formed as it forms them (float).

@@ -21,13 +21,7 @@ namespace
 // with no-returns (Invalid) where the beams miss and a few more cut out.
 SyntheticCloud dualReturnRoom()
 {
-  RayScene s;
-  s.ground_z = -1.8;
-  s.boxes.push_back({6.0, 0.0, -5, 5, 0.1, 6.1, 0});
-  s.boxes.push_back({-6.0, 0.0, -5, 5, 0.1, 6.1, 0});
-  s.boxes.push_back({0.0, 6.0, -5, 5, 6.1, 0.1, 0});
-  s.boxes.push_back({0.0, -6.0, -5, 5, 6.1, 0.1, 0});
-  const ScannedFrame f = scan(s, SensorModel::uniform(16, -15, 15, 0.4), 0.005, 5);
+  const ScannedFrame f = scan(squareRoom(-1.8), SensorModel::uniform(16, -15, 15, 0.4), 0.005, 5);
   SyntheticCloud c;
   for (std::size_t i = 0; i < f.cloud.size(); ++i)
   {

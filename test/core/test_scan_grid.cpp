@@ -18,18 +18,9 @@ namespace
 {
 constexpr double kDeg = 3.14159265358979323846 / 180;
 
-// A square room seen from inside at its centre: four walls, four creases per ring.
-RayScene room()
-{
-  RayScene s;
-  s.ground_z = -100;  // out of range: rings stay on the walls
-  // walls as thin boxes around the sensor
-  s.boxes.push_back({6.0, 0.0, -5, 5, 0.1, 6.1, 0});
-  s.boxes.push_back({-6.0, 0.0, -5, 5, 0.1, 6.1, 0});
-  s.boxes.push_back({0.0, 6.0, -5, 5, 6.1, 0.1, 0});
-  s.boxes.push_back({0.0, -6.0, -5, 5, 6.1, 0.1, 0});
-  return s;
-}
+// The square room (ray_scene.hpp) without ground: the ground at -100 m is out of range, so the
+// rings stay on the walls.
+RayScene room() { return squareRoom(-100); }
 
 // The room standing on level ground, 16 beams, 5 mm noise: walls, creases, ground, jumps.
 ScannedFrame roomOnGround()

@@ -146,5 +146,18 @@ inline ScannedFrame scan(const RayScene& scene, const SensorModel& s, double noi
   return f;
 }
 
+// A square room seen from inside at its centre: four walls 6 m from the sensor (boxes 12.2 m long,
+// 0.2 m thick, from 5 m below it to 5 m above), four creases per ring; ground at `ground_z`.
+inline RayScene squareRoom(double ground_z)
+{
+  RayScene s;
+  s.ground_z = ground_z;
+  s.boxes.push_back({6.0, 0.0, -5, 5, 0.1, 6.1, 0});
+  s.boxes.push_back({-6.0, 0.0, -5, 5, 0.1, 6.1, 0});
+  s.boxes.push_back({0.0, 6.0, -5, 5, 6.1, 0.1, 0});
+  s.boxes.push_back({0.0, -6.0, -5, 5, 6.1, 0.1, 0});
+  return s;
+}
+
 }  // namespace test
 }  // namespace ring_curvature
