@@ -17,7 +17,8 @@ add_library(ring_curvature_core
   src/core/primitives.cpp
   src/core/primitive_sums.cpp
   src/core/primitive_runs.cpp
-  src/core/pipeline.cpp)
+  src/core/pipeline.cpp
+  src/core/cpu_tuning.cpp)
 target_include_directories(ring_curvature_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
 target_compile_options(ring_curvature_core PRIVATE ${RC_WARNINGS})
 # The core never reads errno. Without this, every std::sqrt keeps a branch to libm (to set errno

@@ -5,12 +5,14 @@
 #include "angles.hpp"
 #include "grow.hpp"
 #include "ring_index.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 #include "smoothness.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <limits>
 
 namespace ring_curvature
@@ -191,7 +193,11 @@ const char* coreLoopsIsa()
 {
 #if defined(RC_SIMD_CLONES_ON)
   if (__builtin_cpu_supports("avx512f")) return "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
-  return __builtin_cpu_supports("avx2") ? "avx2" : "baseline";
+  if (!__builtin_cpu_supports("avx2")) return "baseline";
+  // AMD: the forms built on gathers and masked stores give way to plain ones (cpu_tuning.hpp)
+  if (detail::avx2Gathers()) return "avx2";
+  static const std::string plain = std::string("avx2; gather / masked-store forms ") + detail::avx2GathersReason();
+  return plain.c_str();
 #else
   return "baseline";
 #endif
