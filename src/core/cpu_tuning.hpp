@@ -2,10 +2,12 @@
 // Some forms lean on instructions that every AVX2 CPU has but not every one runs fast: the
 // gathers (vpgatherdd, vgatherdps) and the masked loads and stores (vpmaskmovd). On Intel cores
 // since Haswell they are a few micro-ops each and the forms built on them were measured faster
-// than the plain loops (docs/benchmark.md, sessions 5 to 10). On AMD Zen they are microcoded and
-// slow: on Zen 3 (this project's session 11 host) the output stage's gathers took 1.28 times
-// the plain loop's time and the index fill's masked stores 1.19 times the primitives' stage
-// (in-process A/B, KITTI frames), so there the plain or unmasked forms run instead.
+// than the plain loops (docs/benchmark.md, sessions 5 to 10). On AMD Zen they are microcoded:
+// on Zen 3 (session 11's host; in-process A/B against the forms with them) the primitives stage
+// took 0.84-0.88 of its time without the index fill's masked stores, and the output stage in
+// groups of eight (pipeline.cpp) 0.87-0.90 of the gathers' time on KITTI frames, 1.01 on VLP-16
+// dual-return ones and 1.02-1.05 on organized OS1-128 ones, where masked-off lanes (padding)
+// make the gathers cheap. There the plain or unmasked forms run instead.
 // The outputs are the same bits either way; only the speed differs.
 #pragma once
 

@@ -71,6 +71,77 @@ void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
   }
 }
 
+// gatherOutput for the CPUs where gatherOutputAvx2 does not pay (cpu_tuning.hpp), eight points
+// a group: a group whose points are all on the grid (most of a single-return frame) reads its
+// entries without a test, one all off (an organized cloud's padding) stores the unlabelled
+// values, and a mixed one (dual-return
+// frames, where firsts and second returns alternate, and the edges of an organized cloud's
+// padding) reads each point's entries, or position 0's if it has none, and keeps them or the
+// unlabelled values by selection, since there gatherOutput's branch mispredicted. The floats
+// are selected as their bits, so that the compiler selects rather than branches. grid_size > 0.
+void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
+{
+  const std::uint32_t nan_bits = 0x7fc00000u;  // std::numeric_limits<float>::quiet_NaN()
+  const auto* const curvature = reinterpret_cast<const std::uint32_t*>(o.curvature);
+  const auto* const smoothness = reinterpret_cast<const std::uint32_t*>(o.smoothness);
+  const auto* const discontinuity = reinterpret_cast<const std::uint32_t*>(o.discontinuity);
+  auto* const out_curvature = reinterpret_cast<std::uint32_t*>(o.out_curvature);
+  auto* const out_smoothness = reinterpret_cast<std::uint32_t*>(o.out_smoothness);
+  auto* const out_discontinuity = reinterpret_cast<std::uint32_t*>(o.out_discontinuity);
+  const auto* const state = reinterpret_cast<const std::uint8_t*>(o.state);
+  // (locals: through `o`, every pointer was reloaded after each label's byte store)
+  const std::int32_t* const grid_pos = o.grid_pos;
+  const std::uint8_t* const label = o.label;
+  const std::int32_t* const primitive = o.primitive;
+  std::uint8_t* const out_label = o.out_label;
+  std::int32_t* const out_primitive = o.out_primitive;
+  // OnGrid (1) or Duplicate (2)
+  const auto onGrid = [state](std::size_t i) { return static_cast<std::uint8_t>(state[i] - 1u) < 2u; };
+  std::size_t i = i0;
+  for (; i + 8 <= i1; i += 8)
+  {
+    unsigned count = 0;
+    for (std::size_t j = i; j < i + 8; ++j) count += onGrid(j) ? 1u : 0u;
+    if (count == 8)
+    {
+      for (std::size_t j = i; j < i + 8; ++j)
+      {
+        const auto p = static_cast<std::size_t>(grid_pos[j]);
+        out_label[j] = label[p];
+        out_curvature[j] = curvature[p];
+        out_smoothness[j] = smoothness[p];
+        out_discontinuity[j] = discontinuity[p];
+        out_primitive[j] = primitive[p];
+      }
+      continue;
+    }
+    if (count == 0)
+    {
+      for (std::size_t j = i; j < i + 8; ++j)
+      {
+        out_label[j] = static_cast<std::uint8_t>(Label::None);
+        out_curvature[j] = out_smoothness[j] = out_discontinuity[j] = nan_bits;
+        out_primitive[j] = -1;
+      }
+      continue;
+    }
+    for (std::size_t j = i; j < i + 8; ++j)
+    {
+      const bool on = onGrid(j);
+      const auto p = static_cast<std::size_t>(on ? grid_pos[j] : 0);
+      const std::uint8_t l = label[p];
+      const std::uint32_t c = curvature[p], s = smoothness[p], d = discontinuity[p];
+      const std::int32_t q = primitive[p];
+      out_label[j] = on ? l : static_cast<std::uint8_t>(Label::None);
+      out_curvature[j] = on ? c : nan_bits;
+      out_smoothness[j] = on ? s : nan_bits;
+      out_discontinuity[j] = on ? d : nan_bits;
+      out_primitive[j] = on ? q : -1;
+    }
+  }
+  gatherOutput(o, i, i1);
+}
+
 #if defined(RC_SIMD_CLONES_ON)
 // gatherOutput eight points at a time with AVX2's masked gathers (the compiler emits none for
 // the plain loop): the scalar loop spent ~20 instructions a point, most of them loads and stores
@@ -192,10 +263,13 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
                        out.discontinuity.data(), out.primitive.data()};
   std::size_t done = 0;
 #if defined(RC_SIMD_CLONES_ON)
-  // (not on AMD: its gathers made this stage 1.28 times slower than the plain loop, cpu_tuning.hpp)
+  // (not on AMD, cpu_tuning.hpp: there gatherOutputGroups)
   if (detail::avx2Gathers()) done = gatherOutputAvx2(o, n, grid_.size());
 #endif
-  gatherOutput(o, done, n);
+  if (grid_.size() > 0 && !detail::avx2Gathers())
+    gatherOutputGroups(o, done, n);
+  else
+    gatherOutput(o, done, n);
   const std::uint8_t* const out_label = out.label.data();
   // Counted apart, sixteen labels at a time (countLabels): a ++count[label] per point was a chain
   // of stores and reloads of the same counter (nine points in ten are planes).
