@@ -10,39 +10,44 @@ namespace detail
 {
 namespace
 {
-struct GatherChoice
+struct Profile
 {
-  bool on;
-  const char* reason;
+  bool amd;
+  const char* name;
 };
 
-GatherChoice chooseGathers()
+Profile chooseProfile()
 {
-#if defined(RC_SIMD_CLONES_ON)
-  if (!__builtin_cpu_supports("avx2")) return {false, "off (no AVX2)"};
-  if (const char* env = std::getenv("RC_AVX2_GATHERS"))
+  if (const char* env = std::getenv("RC_CPU_TUNING"))
   {
-    if (std::strcmp(env, "1") == 0) return {true, "on (RC_AVX2_GATHERS=1)"};
-    if (std::strcmp(env, "0") == 0) return {false, "off (RC_AVX2_GATHERS=0)"};
-    // anything else: as if unset (a typo must not change what a benchmark measures unseen;
-    // the banner shows the choice)
+    if (std::strcmp(env, "intel") == 0) return {false, "intel (RC_CPU_TUNING=intel)"};
+    if (std::strcmp(env, "amd") == 0) return {true, "amd (RC_CPU_TUNING=amd)"};
+    // anything else: as if unset (the banner shows the profile chosen)
   }
-  if (__builtin_cpu_is("amd")) return {false, "off (AMD)"};
-  return {true, "on"};
-#else
-  return {false, "off (baseline build)"};
+#if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_is("amd")) return {true, "amd (AMD CPU)"};
 #endif
+  return {false, "intel"};
 }
 
-const GatherChoice& choice()
+const Profile& profile()
 {
-  static const GatherChoice c = chooseGathers();  // (thread-safe initialisation)
-  return c;
+  static const Profile p = chooseProfile();  // (thread-safe initialisation)
+  return p;
 }
 }  // namespace
 
-bool avx2Gathers() { return choice().on; }
-const char* avx2GathersReason() { return choice().reason; }
+bool avx2Gathers()
+{
+#if defined(RC_SIMD_CLONES_ON)
+  static const bool on = __builtin_cpu_supports("avx2") && !profile().amd;
+  return on;
+#else
+  return false;
+#endif
+}
+bool writePrefetch() { return !profile().amd; }
+const char* cpuTuningName() { return profile().name; }
 
 }  // namespace detail
 }  // namespace ring_curvature

@@ -191,16 +191,20 @@ struct RingCtx
 
 const char* coreLoopsIsa()
 {
+  // the ISA of the loops, then the tuning profile (cpu_tuning.hpp)
+  static const std::string s = [] {
 #if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_supports("avx512f")) return "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
-  if (!__builtin_cpu_supports("avx2")) return "baseline";
-  // AMD: the forms built on gathers and masked stores give way to plain ones (cpu_tuning.hpp)
-  if (detail::avx2Gathers()) return "avx2";
-  static const std::string plain = std::string("avx2; gather / masked-store forms ") + detail::avx2GathersReason();
-  return plain.c_str();
+    std::string isa = "baseline";
+    if (__builtin_cpu_supports("avx512f"))
+      isa = "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
+    else if (__builtin_cpu_supports("avx2"))
+      isa = "avx2";
 #else
-  return "baseline";
+    std::string isa = "baseline";
 #endif
+    return isa + "; tuning " + detail::cpuTuningName();
+  }();
+  return s.c_str();
 }
 
 void FeatureComputer::compute(const ScanGrid& grid, const Params& params, Features& out)
