@@ -4,6 +4,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "angles.hpp"
+#include "cpu_tuning.hpp"
 #include "input_avx2.hpp"
 #include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
@@ -101,6 +102,11 @@ RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const flo
 // the float of its double; an invalid one's are never read). The 32 bits at the ring's offset
 // are gathered and masked to 16, so the last group whose read could pass the end of the data
 // (the last point's) is left to the loop above. Returns the points done and updates max_read.
+// kGathers false (CPUs with slow gathers, cpu_tuning.hpp; needs oy = ox + 4, oz = ox + 8): the
+// same bytes read with plain loads instead (input_avx2.hpp), x, y, z as 16 bytes a record from
+// its x; those stay inside the data for the same reason (16 <= step + 4 bytes past a record's x,
+// and the last record is left out).
+template <bool kGathers>
 __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox, std::size_t oy, std::size_t oz,
     std::size_t oring, bool has_ring, std::int32_t fixed_ring, double rmin, double rmax, double* range_out, float* px,
@@ -108,7 +114,7 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     std::uint32_t& max_read)
 {
   // every gather offset of a group (7 steps and a field offset) must fit an int32
-  if (step > (1u << 26) || n < 9) return 0;
+  if ((kGathers && step > (1u << 26)) || n < 9) return 0;
   const int st = static_cast<int>(step);
   const __m256i lanes = _mm256_setr_epi32(0, st, 2 * st, 3 * st, 4 * st, 5 * st, 6 * st, 7 * st);
   const __m256i vx = _mm256_add_epi32(lanes, _mm256_set1_epi32(static_cast<int>(ox)));
@@ -139,8 +145,15 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
       detail::prefetchRecords(data, i + detail::kRecordsAhead, 8, step, ox);  // (see the AVX-512 form)
     }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
-    const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
-                 z = _mm256_i32gather_ps(base, vz, 1);
+    __m256 x, y, z;
+    if constexpr (kGathers)
+    {
+      x = _mm256_i32gather_ps(base, vx, 1);
+      y = _mm256_i32gather_ps(base, vy, 1);
+      z = _mm256_i32gather_ps(base, vz, 1);
+    }
+    else
+      detail::loadXyzAvx2(data + i * step + ox, step, x, y, z);
     __m256d r0, r1;
     detail::rangesAvx2(x, y, z, r0, r1);
     _mm256_storeu_pd(range_out + i, r0);
@@ -153,7 +166,10 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     __m256i ring = fixed;
     if (has_ring)
     {
-      ring = _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), vr, 1), low16);
+      if constexpr (kGathers)
+        ring = _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), vr, 1), low16);
+      else
+        ring = _mm256_and_si256(detail::load32Avx2(data + i * step + oring, step), low16);
       largest = _mm256_max_epu32(largest, ring);
     }
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(ring_out + i), _mm256_blendv_epi8(none, ring, valid));
@@ -262,9 +278,11 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
   if (__builtin_cpu_supports("avx2"))
   {
     const std::size_t o = done * step;
-    done += readXyzRecordsAvx2(data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax,
-                               range_out + done, px + done, py + done, pz + done, paz + done, ring_out + done,
-                               state + done, grid_pos + done, max_read);
+    // plain loads where the gathers are slow and x, y, z are one run of floats (cpu_tuning.hpp)
+    const bool gathers = detail::avx2Gathers() || oy != ox + 4 || oz != ox + 8;
+    done += (gathers ? readXyzRecordsAvx2<true> : readXyzRecordsAvx2<false>)(
+        data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax, range_out + done, px + done,
+        py + done, pz + done, paz + done, ring_out + done, state + done, grid_pos + done, max_read);
   }
 #endif
   const std::size_t o = done * step;

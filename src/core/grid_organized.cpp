@@ -5,6 +5,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "compress_table.hpp"
+#include "cpu_tuning.hpp"
 #include "input_avx2.hpp"
 #include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
@@ -181,7 +182,9 @@ inline std::size_t placeColumn(const std::uint8_t* rec, const RecordLayout& L, c
 // readXyzRecordsAvx2 computes (input_avx2.hpp). Columns [0, vector_cols) go eight at a time,
 // the rest one at a time (placeColumn); `largest` takes the largest 16-bit ring field when
 // oring >= 0. Columns before `first` (a multiple of 8) were done already (readPlaceRowAvx512).
-// Returns the new w.
+// kGathers false: the fields read with plain loads (as readXyzRecordsAvx2<false> reads them;
+// needs oy = ox + 4, oz = ox + 8). Returns the new w.
+template <bool kGathers>
 __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::uint8_t* row, const RecordLayout& L,
                                                                       const OrganizedGrid& out, std::size_t i0,
                                                                       std::size_t W, std::size_t first,
@@ -204,14 +207,27 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
     const std::size_t i = i0 + c;
     detail::prefetchRecords(row, c + detail::kRecordsAhead, 8, L.step, L.ox);  // (see readPlaceRowAvx512)
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
-    const __m256 x = _mm256_i32gather_ps(base, vx, 1), y = _mm256_i32gather_ps(base, vy, 1),
-                 z = _mm256_i32gather_ps(base, vz, 1);
+    __m256 x, y, z;
+    if constexpr (kGathers)
+    {
+      x = _mm256_i32gather_ps(base, vx, 1);
+      y = _mm256_i32gather_ps(base, vy, 1);
+      z = _mm256_i32gather_ps(base, vz, 1);
+    }
+    else
+      detail::loadXyzAvx2(row + c * L.step + L.ox, L.step, x, y, z);
     __m256d r0, r1;
     detail::rangesAvx2(x, y, z, r0, r1);
     const __m256i valid = detail::validAvx2(r0, r1, lo, hi);
     if (L.oring >= 0)
-      most = _mm256_max_epu32(most, _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), vr, 1),
-                                                     _mm256_set1_epi32(0xFFFF)));
+    {
+      __m256i bits;
+      if constexpr (kGathers)
+        bits = _mm256_i32gather_epi32(reinterpret_cast<const int*>(base), vr, 1);
+      else
+        bits = detail::load32Avx2(row + c * L.step + static_cast<std::size_t>(L.oring), L.step);
+      most = _mm256_max_epu32(most, _mm256_and_si256(bits, _mm256_set1_epi32(0xFFFF)));
+    }
     const __m256i s32 = _mm256_and_si256(valid, one);  // OnGrid (1) or Invalid (0) per lane
     const __m128i s16 = _mm_packs_epi32(_mm256_castsi256_si128(s32), _mm256_extracti128_si256(s32, 1));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(out.state + i), _mm_packs_epi16(s16, s16));
@@ -403,15 +419,18 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   std::size_t w = 0;
   largest = 0;
   const bool wide = __builtin_cpu_supports("avx512f");
+  // plain loads where the gathers are slow and x, y, z are one run of floats (cpu_tuning.hpp)
+  const bool gathers = detail::avx2Gathers() || layout.oy != layout.ox + 4 || layout.oz != layout.ox + 8;
+  const auto readRow = gathers ? readPlaceRowAvx2<true> : readPlaceRowAvx2<false>;
   for (std::size_t r = 0; r < R; ++r)
   {
-    // (the last record's 32-bit ring read could pass the end of the data: the last row's last
-    // group goes one column at a time)
-    const std::size_t cols = r + 1 < R || layout.oring < 0 ? W : W - 1;
+    // (the last record's 32-bit ring read, or its 16 bytes from x, could pass the end of the
+    // data: the last row's last group goes one column at a time)
+    const std::size_t cols = r + 1 < R || (layout.oring < 0 && gathers) ? W : W - 1;
     const std::size_t wide_cols = wide ? cols / 16 * 16 : 0;
     const std::uint8_t* const row = view.data + r * view.row_step;
     if (wide_cols > 0) w = readPlaceRowAvx512(row, layout, out, r * W, wide_cols, w, ring_sum_[r], largest);
-    w = readPlaceRowAvx2(row, layout, out, r * W, W, wide_cols, cols / 8 * 8, w, ring_sum_[r], largest);
+    w = readRow(row, layout, out, r * W, W, wide_cols, cols / 8 * 8, w, ring_sum_[r], largest);
     grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
   }
   grid.state.resize(n);

@@ -9,6 +9,9 @@
 #if defined(RC_SIMD_CLONES_ON)
 #include <immintrin.h>
 
+#include <cstddef>
+#include <cstdint>
+
 namespace ring_curvature
 {
 namespace detail
@@ -69,6 +72,45 @@ __attribute__((target("avx2"))) inline __m256i validAvx2(__m256d r0, __m256d r1,
   const __m256d v1 = _mm256_and_pd(_mm256_cmp_pd(r1, lo, _CMP_GE_OQ), _mm256_cmp_pd(r1, hi, _CMP_LE_OQ));
   return _mm256_set_m128i(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v1), low_halves)),
                           _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v0), low_halves)));
+}
+
+// Plain-load forms of the input passes' gathers, for CPUs where the gathers are microcoded (AMD
+// Zen; cpu_tuning.hpp): loads and shuffles move bits, so these are the gathers' lanes bit for bit.
+
+// Records k and k + 4 (`step` bytes apart from p), 16 bytes of each: x y z . | x y z .
+__attribute__((target("avx2"))) inline __m256 recordPairAvx2(const std::uint8_t* p, std::size_t step, std::size_t k)
+{
+  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(reinterpret_cast<const float*>(p + k * step))),
+                              _mm_loadu_ps(reinterpret_cast<const float*>(p + (k + 4) * step)), 1);
+}
+// x, y, z of eight records `step` bytes apart, x of the first at p and y, z the two floats after
+// each x (the common layouts): each record's 16 bytes at its x in one load, the eight transposed
+// (an insert, two unpacks and a shuffle and a half per vector, where a gather of eight is a few
+// dozen micro-ops on Zen 3). The 4 bytes after z are read too: the caller keeps every load inside
+// the data.
+__attribute__((target("avx2"))) inline void loadXyzAvx2(const std::uint8_t* p, std::size_t step, __m256& x, __m256& y,
+                                                        __m256& z)
+{
+  const __m256 a0 = recordPairAvx2(p, step, 0), a1 = recordPairAvx2(p, step, 1);
+  const __m256 a2 = recordPairAvx2(p, step, 2), a3 = recordPairAvx2(p, step, 3);
+  const __m256 xy01 = _mm256_unpacklo_ps(a0, a1), xy23 = _mm256_unpacklo_ps(a2, a3);  // x0 x1 y0 y1 | x4 x5 y4 y5
+  const __m256 z01 = _mm256_unpackhi_ps(a0, a1), z23 = _mm256_unpackhi_ps(a2, a3);    // z0 z1 . . | z4 z5 . .
+  x = _mm256_shuffle_ps(xy01, xy23, 0x44);
+  y = _mm256_shuffle_ps(xy01, xy23, 0xEE);
+  z = _mm256_shuffle_ps(z01, z23, 0x44);
+}
+
+// The 32 bits at p + j step for j in [k, k + 4), one 4-byte load each.
+__attribute__((target("avx2"))) inline __m128i load32x4Avx2(const std::uint8_t* p, std::size_t step, std::size_t k)
+{
+  const __m128i a = _mm_loadu_si32(p + k * step), b = _mm_loadu_si32(p + (k + 1) * step);
+  const __m128i c = _mm_loadu_si32(p + (k + 2) * step), d = _mm_loadu_si32(p + (k + 3) * step);
+  return _mm_unpacklo_epi64(_mm_unpacklo_epi32(a, b), _mm_unpacklo_epi32(c, d));
+}
+// ... for k in [0, 8): the bytes a gather of those offsets reads.
+__attribute__((target("avx2"))) inline __m256i load32Avx2(const std::uint8_t* p, std::size_t step)
+{
+  return _mm256_inserti128_si256(_mm256_castsi128_si256(load32x4Avx2(p, step, 0)), load32x4Avx2(p, step, 4), 1);
 }
 
 }  // namespace detail
