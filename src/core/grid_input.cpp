@@ -105,8 +105,10 @@ RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const flo
 // kGathers false (CPUs with slow gathers, cpu_tuning.hpp; needs oy = ox + 4, oz = ox + 8): the
 // same bytes read with plain loads instead (input_avx2.hpp), x, y, z as 16 bytes a record from
 // its x; those stay inside the data for the same reason (16 <= step + 4 bytes past a record's x,
-// and the last record is left out).
-template <bool kGathers>
+// and the last record is left out). kNext32 (a ring field 16 bytes after x, velodyne's XYZIRT):
+// 32 bytes a record from its x, which hold the ring too (32 <= step + 14, as the ring's two bytes
+// end 18 bytes past x or more).
+template <bool kGathers, bool kNext32 = false>
 __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox, std::size_t oy, std::size_t oz,
     std::size_t oring, bool has_ring, std::int32_t fixed_ring, double rmin, double rmax, double* range_out, float* px,
@@ -146,12 +148,15 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     }
     const auto* const base = reinterpret_cast<const float*>(data + i * step);
     __m256 x, y, z;
+    __m256i bits = none;  // (kNext32: the ring's 32 bits)
     if constexpr (kGathers)
     {
       x = _mm256_i32gather_ps(base, vx, 1);
       y = _mm256_i32gather_ps(base, vy, 1);
       z = _mm256_i32gather_ps(base, vz, 1);
     }
+    else if constexpr (kNext32)
+      detail::loadXyzNext32Avx2(data + i * step + ox, step, x, y, z, bits);
     else
       detail::loadXyzAvx2(data + i * step + ox, step, x, y, z);
     __m256d r0, r1;
@@ -168,6 +173,8 @@ __attribute__((target("avx2"))) std::size_t readXyzRecordsAvx2(
     {
       if constexpr (kGathers)
         ring = _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), vr, 1), low16);
+      else if constexpr (kNext32)
+        ring = _mm256_and_si256(bits, low16);
       else
         ring = _mm256_and_si256(detail::load32Avx2(data + i * step + oring, step), low16);
       largest = _mm256_max_epu32(largest, ring);
@@ -280,7 +287,10 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
     const std::size_t o = done * step;
     // plain loads where the gathers are slow and x, y, z are one run of floats (cpu_tuning.hpp)
     const bool gathers = detail::avx2Gathers() || oy != ox + 4 || oz != ox + 8;
-    done += (gathers ? readXyzRecordsAvx2<true> : readXyzRecordsAvx2<false>)(
+    const auto read = gathers                            ? readXyzRecordsAvx2<true>
+                      : has_ring && oring == ox + 16 ? readXyzRecordsAvx2<false, true>
+                                                     : readXyzRecordsAvx2<false>;
+    done += read(
         data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax, range_out + done, px + done,
         py + done, pz + done, paz + done, ring_out + done, state + done, grid_pos + done, max_read);
   }
