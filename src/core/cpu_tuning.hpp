@@ -9,7 +9,9 @@
 // with them) the primitives stage took 0.84-0.88 of its time without the index fill's masked
 // stores, and the output stage in groups of eight (pipeline.cpp) 0.87-0.90 of the gathers' time
 // on KITTI frames, 1.01 on VLP-16 dual-return ones and 1.02-1.05 on organized OS1-128 ones,
-// where masked-off lanes (padding) make the gathers cheap.
+// where masked-off lanes (padding) make the gathers cheap. The input passes read their records
+// with plain loads and shuffles there (input_avx2.hpp; grid 0.88 to 0.92 of the gather forms'
+// on the KITTI, VLP-16 and OS1-128 frames).
 //
 // Write prefetches. The store streams of the input pass and the coordinate gather ask for their
 // lines ahead (ring_curvature/prefetch.hpp), which paid on Intel; on Zen 3 the grid stage took

@@ -5,7 +5,7 @@
 // Each frame is compared bit for bit with the same values in float64 records, which take the
 // generic input pass, and is read from a buffer that ends where an inaccessible page begins, so
 // that a vector load past the end of the data faults. The vector forms that run depend on the
-// CPU and on RC_AVX2_GATHERS (cpu_tuning.hpp): scripts/test.d/70-simd-clones runs these tests
+// CPU and on RC_CPU_TUNING (cpu_tuning.hpp): scripts/test.d/70-simd-clones runs these tests
 // with both choices.
 #include <gtest/gtest.h>
 
