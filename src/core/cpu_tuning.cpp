@@ -46,7 +46,6 @@ bool avx2Gathers()
   return false;
 #endif
 }
-bool writePrefetch() { return !profile().amd; }
 const char* cpuTuningName() { return profile().name; }
 
 }  // namespace detail

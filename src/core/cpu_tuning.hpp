@@ -13,10 +13,6 @@
 // with plain loads and shuffles there (input_avx2.hpp; grid 0.88 to 0.92 of the gather forms'
 // on the KITTI, VLP-16 and OS1-128 frames).
 //
-// Write prefetches. The store streams of the input pass and the coordinate gather ask for their
-// lines ahead (ring_curvature/prefetch.hpp), which paid on Intel; on Zen 3 the grid stage took
-// 0.947 (KITTI) and 0.972 (VLP-16 dual) of its time without them.
-//
 // The outputs are the same bits under either profile; only the speed differs.
 #pragma once
 
@@ -28,9 +24,6 @@ namespace detail
 /// True where the AVX2 forms built on gathers and masked loads / stores should run: an AVX2 CPU
 /// with the Intel profile.
 bool avx2Gathers();
-
-/// True where the store streams should be prefetched for writing (the Intel profile).
-bool writePrefetch();
 
 /// The profile in force and why, for the benchmarks' banner: "intel", "amd (AMD CPU)",
 /// "amd (RC_CPU_TUNING=amd)", ... Every CPU but an AMD one gets the Intel profile (the one
