@@ -125,6 +125,9 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
       }
       continue;
     }
+    // (a loop, not unrolled: unrolled eight times it held more pointers than there are
+    // registers and reloaded them from the stack; the all-on loop above gains from unrolling)
+#pragma GCC unroll 1
     for (std::size_t j = i; j < i + 8; ++j)
     {
       const bool on = onGrid(j);
