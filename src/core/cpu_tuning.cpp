@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace ring_curvature
 {
@@ -13,21 +14,25 @@ namespace
 struct Profile
 {
   bool amd;
-  const char* name;
+  std::string name;
 };
 
 Profile chooseProfile()
 {
-  if (const char* env = std::getenv("RC_CPU_TUNING"))
+  std::string ignored;
+  const char* const env = std::getenv("RC_CPU_TUNING");
+  if (env != nullptr && *env != 0)  // (set but empty: as unset)
   {
     if (std::strcmp(env, "intel") == 0) return {false, "intel (RC_CPU_TUNING=intel)"};
     if (std::strcmp(env, "amd") == 0) return {true, "amd (RC_CPU_TUNING=amd)"};
-    // anything else: as if unset (the banner shows the profile chosen)
+    // anything else is named in the banner and otherwise ignored: a typo must not pass unseen,
+    // nor stop a library that has no channel for errors at load time
+    ignored = std::string("; RC_CPU_TUNING='") + env + "' ignored: not intel or amd";
   }
 #if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_is("amd")) return {true, "amd (AMD CPU)"};
+  if (__builtin_cpu_is("amd")) return {true, "amd (AMD CPU" + ignored + ")"};
 #endif
-  return {false, "intel"};
+  return {false, ignored.empty() ? std::string("intel") : "intel (" + ignored.substr(2) + ")"};
 }
 
 const Profile& profile()
@@ -46,7 +51,7 @@ bool avx2Gathers()
   return false;
 #endif
 }
-const char* cpuTuningName() { return profile().name; }
+const char* cpuTuningName() { return profile().name.c_str(); }
 
 }  // namespace detail
 }  // namespace ring_curvature

@@ -28,7 +28,8 @@ bool avx2Gathers();
 /// The profile in force and why, for the benchmarks' banner: "intel", "amd (AMD CPU)",
 /// "amd (RC_CPU_TUNING=amd)", ... Every CPU but an AMD one gets the Intel profile (the one
 /// sessions 1 to 10 tuned for). RC_CPU_TUNING=intel or =amd in the environment forces one (read
-/// once, at the first call), so that the tests can run both profiles' forms on any host.
+/// once, at the first call), so that the tests can run both profiles' forms on any host; any
+/// other value is named here and ignored.
 const char* cpuTuningName();
 
 }  // namespace detail

@@ -3,17 +3,17 @@
 #include "ring_curvature/features.hpp"
 
 #include "angles.hpp"
+#include "cpu_tuning.hpp"
 #include "grow.hpp"
 #include "ring_index.hpp"
-#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 #include "smoothness.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <string>
 #include <limits>
+#include <string>
 
 namespace ring_curvature
 {

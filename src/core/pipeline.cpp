@@ -71,14 +71,14 @@ void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
   }
 }
 
-// gatherOutput for the CPUs where gatherOutputAvx2 does not pay (cpu_tuning.hpp), eight points
-// a group: a group whose points are all on the grid (most of a single-return frame) reads its
-// entries without a test, one all off (an organized cloud's padding) stores the unlabelled
-// values, and a mixed one (dual-return
-// frames, where firsts and second returns alternate, and the edges of an organized cloud's
-// padding) reads each point's entries, or position 0's if it has none, and keeps them or the
-// unlabelled values by selection, since there gatherOutput's branch mispredicted. The floats
-// are selected as their bits, so that the compiler selects rather than branches. grid_size > 0.
+// gatherOutput where gatherOutputAvx2 does not run (the AMD tuning profile, cpu_tuning.hpp, and
+// CPUs without AVX2), eight points a group: a group whose points are all on the grid (most of a
+// single-return frame) reads its entries without a test, one all off (an organized cloud's
+// padding) stores the unlabelled values, and a mixed one (dual-return frames, where firsts and
+// second returns alternate; the edges of the padding) reads each point's entries, or position
+// 0's if it has none, and keeps them or the unlabelled values by selection: there gatherOutput's
+// branch mispredicted. The floats are selected as their bits, so that the compiler selects
+// rather than branches. grid_size > 0.
 void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
 {
   const std::uint32_t nan_bits = 0x7fc00000u;  // std::numeric_limits<float>::quiet_NaN()

@@ -9,6 +9,7 @@
 
 #include <stdexcept>
 
+#include "ring_curvature/features.hpp"
 #include "ring_curvature/ros/param_loading.hpp"
 
 namespace ring_curvature
@@ -77,6 +78,8 @@ void RingCurvatureNodelet::onInit()
   pub_stats_ = pnh.advertise<FrameStats>("frame_stats", std::max(q, 10U), cb, cb);
   NODELET_INFO("ready: subscribes to %s lazily (while an output has subscribers), outputs in %s",
                nh.resolveName("velodyne_points").c_str(), pnh.getNamespace().c_str());
+  // which SIMD forms and tuning profile this CPU runs (RC_CPU_TUNING; docs/benchmark.md, "SIMD")
+  NODELET_INFO("core loops: %s", coreLoopsIsa());
 }
 
 void RingCurvatureNodelet::connectCb()
