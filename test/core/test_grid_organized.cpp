@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/same_bits.hpp"
 #include "../support/synthetic_cloud.hpp"
 #include "ring_curvature/pipeline.hpp"
 
@@ -17,13 +18,6 @@ using namespace ring_curvature::test;
 
 namespace
 {
-// Same bits (NaN payloads included) for every element of two arrays.
-template <class A, class B>
-bool sameBits(const A& a, const B& b)
-{
-  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
-}
-
 // An organized frame of `rows` x `cols`, ring 0 at the top, with NaN padding, returns below the
 // minimum range and signed zeros, written as float32 records and as the same values in float64
 // records (which take the generic input pass and placement). Row 5 is all padding, row 7 all

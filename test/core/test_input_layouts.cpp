@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/same_bits.hpp"
 #include "../support/synthetic_cloud.hpp"
 #include "ring_curvature/pipeline.hpp"
 
@@ -29,12 +30,6 @@ using namespace ring_curvature::test;
 
 namespace
 {
-template <class A, class B>
-bool sameBits(const A& a, const B& b)
-{
-  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
-}
-
 // `size` bytes that end at the first byte of a page nothing may read.
 class GuardedBuffer
 {
