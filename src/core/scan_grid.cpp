@@ -7,6 +7,7 @@
 #include "angles.hpp"
 #include "cloud_view_checks.hpp"
 #include "compress_table.hpp"
+#include "cpu_tuning.hpp"
 #include "record_read.hpp"
 #include "ring_curvature/prefetch.hpp"
 #include "simd_clones.hpp"
@@ -54,6 +55,60 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 }
 
 #if defined(RC_SIMD_CLONES_ON)
+// gatherXyz for the AMD tuning profile (cpu_tuning.hpp), eight positions a step: where their
+// input indices are eight consecutive ones (a ring that arrived in azimuth order: most of a
+// KITTI frame), the floats are read as one vector each and widened, the ranges copied as two;
+// elsewhere one position at a time, as gatherXyz. The same values either way (float32 widens
+// to double exactly). The store streams' prefetches as in gatherXyz. Returns the positions done.
+__attribute__((target("avx2"))) std::size_t gatherXyzRunsAvx2(std::size_t m, const std::uint32_t* index,
+                                                              const float* px, const float* py, const float* pz,
+                                                              const double* prange, double* gx, double* gy,
+                                                              double* gz, double* gr)
+{
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  std::size_t p = 0;
+  for (; p + 8 <= m; p += 8)
+  {
+    {
+      using detail::prefetchForWrite;
+      const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
+      prefetchForWrite(gx, ahead);
+      prefetchForWrite(gy, ahead);
+      prefetchForWrite(gz, ahead);
+      prefetchForWrite(gr, ahead);
+    }
+    const std::uint32_t i0 = index[p];
+    const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + p));
+    const __m256i want = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(i0)), lane);
+    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(idx, want)) == -1)
+    {
+#define RC_WIDEN(src, dst)                                                   \
+  do                                                                         \
+  {                                                                          \
+    const __m256 v = _mm256_loadu_ps((src) + i0);                            \
+    _mm256_storeu_pd((dst) + p, _mm256_cvtps_pd(_mm256_castps256_ps128(v))); \
+    _mm256_storeu_pd((dst) + p + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1))); \
+  } while (false)
+      RC_WIDEN(px, gx);
+      RC_WIDEN(py, gy);
+      RC_WIDEN(pz, gz);
+#undef RC_WIDEN
+      _mm256_storeu_pd(gr + p, _mm256_loadu_pd(prange + i0));
+      _mm256_storeu_pd(gr + p + 4, _mm256_loadu_pd(prange + i0 + 4));
+      continue;
+    }
+    for (std::size_t q = p; q < p + 8; ++q)
+    {
+      const std::uint32_t i = index[q];
+      gx[q] = px[i];
+      gy[q] = py[i];
+      gz[q] = pz[i];
+      gr[q] = prange[i];
+    }
+  }
+  return p;
+}
+
 // keptStretch eight samples a step.
 __attribute__((target("avx2"))) std::uint32_t keptStretchAvx2(const float* az, std::uint32_t p, std::uint32_t e,
                                                              float same_firing)
@@ -217,7 +272,13 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   // elevation sums included.)
   if (fast && !gathered)
   {
-    gatherXyz(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
+    std::size_t done = 0;
+#if defined(RC_SIMD_CLONES_ON)
+    if (__builtin_cpu_supports("avx2") && !detail::avx2Gathers())
+      done = gatherXyzRunsAvx2(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
+#endif
+    gatherXyz(m - done, index + done, px_.data(), py_.data(), pz_.data(), prange_.data(), gx + done, gy + done,
+              gz + done, gr + done);
   }
   else if (!fast)
   {

@@ -1,7 +1,8 @@
 // The float32 input passes (grid_input.cpp's readRecords, grid_organized.cpp's readOrganized)
 // over record layouts other than the shipped bags': record steps 14 to 48, x not at 0, the ring
 // before or right after z, y and z not following x (the gather form only), frame sizes around
-// the groups of 8 and 16, organized rows with and without a ring field and with row padding.
+// the groups of 8 and 16, rings in turn and one after another, organized rows with and without
+// a ring field and with row padding.
 // Each frame is compared bit for bit with the same values in float64 records, which take the
 // generic input pass, and is read from a buffer that ends where an inaccessible page begins, so
 // that a vector load past the end of the data faults. The vector forms that run depend on the
@@ -73,22 +74,29 @@ struct Point
   int ring;
 };
 
-// A scan of n points, rings 0..15 in turn, azimuth increasing, with NaN padding, infinities,
-// returns below the minimum range and signed zeros among them.
-std::vector<Point> scanPoints(std::size_t n, unsigned seed)
+// A scan of n points, rings 0..15 in turn (a velodyne's firings), azimuth increasing, with NaN
+// padding, infinities, returns below the minimum range and signed zeros among them. With
+// ring_after_ring, the rings come one after another instead, each in azimuth order (KITTI's
+// layout: the grid's index then holds long runs of consecutive input points).
+std::vector<Point> scanPoints(std::size_t n, unsigned seed, bool ring_after_ring = false)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<Point> pts;
+  const std::size_t per_ring = (n + 15) / 16;
   for (std::size_t k = 0; k < n; ++k)
   {
-    const int ring = static_cast<int>(k % 16);
-    const double az = -3.0 + 6.0 * static_cast<double>(k) / static_cast<double>(n), el = -0.25 + 0.03 * ring;
-    const double r = k % 11 == 5 ? 0.05 : 2.0 + 30.0 * u(rng);
+    const int ring = static_cast<int>(ring_after_ring ? k / per_ring : k % 16);
+    const double t = ring_after_ring ? static_cast<double>(k % per_ring) / static_cast<double>(per_ring)
+                                     : static_cast<double>(k) / static_cast<double>(n);
+    const double az = -3.0 + 6.0 * t, el = -0.25 + 0.03 * ring;
+    const double r = k % (ring_after_ring ? 110 : 11) == 5 ? 0.05 : 2.0 + 30.0 * u(rng);
     Point p{static_cast<float>(r * std::cos(el) * std::cos(az)), static_cast<float>(r * std::cos(el) * std::sin(az)),
             static_cast<float>(r * std::sin(el)), ring};
-    if (k % 7 == 3) p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
-    if (k % 19 == 4) p.z = std::numeric_limits<float>::infinity();
+    // (ring after ring: the invalid returns sparser, so that stretches of eight valid ones occur)
+    const std::size_t every = ring_after_ring ? 10 : 1;
+    if (k % (7 * every) == 3) p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+    if (k % (19 * every) == 4) p.z = std::numeric_limits<float>::infinity();
     if (k % 13 == 0) p.y = -0.0f;
     if (k % 17 == 0) p.x = 0.0f;
     pts.push_back(p);
@@ -184,6 +192,26 @@ TEST(InputLayouts, UnorganizedMatchesTheGenericPass)
       Pipeline fast, generic;
       FrameResult rf, rg;
       const std::string what = name(L) + ", " + std::to_string(n) + " points";
+      ASSERT_TRUE(fast.process(v, rf).ok) << what;
+      ASSERT_TRUE(generic.process(ref.view(), rg).ok) << what;
+      expectSameGrid(fast, rf, generic, rg, what);
+    }
+}
+
+// Rings one after another (the coordinate gather's runs of consecutive input points, read as
+// vectors on the AMD profile), around the groups of eight.
+TEST(InputLayouts, RingAfterRingMatchesTheGenericPass)
+{
+  for (const Layout& L : {kLayouts[0], kLayouts[4], kLayouts[7]})
+    for (const std::size_t n : {9u, 16u, 17u, 130u, 1003u, 4096u})
+    {
+      const std::vector<Point> pts = scanPoints(n, static_cast<unsigned>(2 * n + L.step), true);
+      std::unique_ptr<GuardedBuffer> buf;
+      const PointCloudView v = writeRecords(pts, L, 1, buf);
+      const SyntheticCloud ref = reference(pts);
+      Pipeline fast, generic;
+      FrameResult rf, rg;
+      const std::string what = name(L) + ", " + std::to_string(n) + " points ring after ring";
       ASSERT_TRUE(fast.process(v, rf).ok) << what;
       ASSERT_TRUE(generic.process(ref.view(), rg).ok) << what;
       expectSameGrid(fast, rf, generic, rg, what);
