@@ -4,7 +4,6 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "angles.hpp"
-#include "cpu_tuning.hpp"
 #include "input_avx2.hpp"
 #include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
@@ -285,11 +284,10 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
   if (__builtin_cpu_supports("avx2"))
   {
     const std::size_t o = done * step;
-    // plain loads where the gathers are slow and x, y, z are one run of floats (cpu_tuning.hpp)
-    const bool gathers = detail::avx2Gathers() || oy != ox + 4 || oz != ox + 8;
-    const auto read = gathers                            ? readXyzRecordsAvx2<true>
-                      : has_ring && oring == ox + 16 ? readXyzRecordsAvx2<false, true>
-                                                     : readXyzRecordsAvx2<false>;
+    // (plain loads where the gathers are slow and x, y, z are one run of floats, cpu_tuning.hpp)
+    const auto read = detail::inputGathers(ox, oy, oz) ? readXyzRecordsAvx2<true>
+                      : has_ring && oring == ox + 16   ? readXyzRecordsAvx2<false, true>
+                                                       : readXyzRecordsAvx2<false>;
     done += read(
         data + o, n - done, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax, range_out + done, px + done,
         py + done, pz + done, paz + done, ring_out + done, state + done, grid_pos + done, max_read);

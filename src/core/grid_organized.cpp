@@ -5,7 +5,6 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "compress_table.hpp"
-#include "cpu_tuning.hpp"
 #include "input_avx2.hpp"
 #include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
@@ -419,8 +418,7 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   std::size_t w = 0;
   largest = 0;
   const bool wide = __builtin_cpu_supports("avx512f");
-  // plain loads where the gathers are slow and x, y, z are one run of floats (cpu_tuning.hpp)
-  const bool gathers = detail::avx2Gathers() || layout.oy != layout.ox + 4 || layout.oz != layout.ox + 8;
+  const bool gathers = detail::inputGathers(layout.ox, layout.oy, layout.oz);
   const auto readRow = gathers ? readPlaceRowAvx2<true> : readPlaceRowAvx2<false>;
   for (std::size_t r = 0; r < R; ++r)
   {

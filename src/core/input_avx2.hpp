@@ -9,6 +9,8 @@
 #if defined(RC_SIMD_CLONES_ON)
 #include <immintrin.h>
 
+#include "cpu_tuning.hpp"
+
 #include <cstddef>
 #include <cstdint>
 
@@ -83,6 +85,16 @@ __attribute__((target("avx2"))) inline __m256 recordPairAvx2(const std::uint8_t*
   return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(reinterpret_cast<const float*>(p + k * step))),
                               _mm_loadu_ps(reinterpret_cast<const float*>(p + (k + 4) * step)), 1);
 }
+// x, y, z of eight records from their x y z . quadruples, records k and k + 4 paired in a_k.
+__attribute__((target("avx2"))) inline void transposeXyzAvx2(__m256 a0, __m256 a1, __m256 a2, __m256 a3, __m256& x,
+                                                             __m256& y, __m256& z)
+{
+  const __m256 xy01 = _mm256_unpacklo_ps(a0, a1), xy23 = _mm256_unpacklo_ps(a2, a3);  // x0 x1 y0 y1 | x4 x5 y4 y5
+  const __m256 z01 = _mm256_unpackhi_ps(a0, a1), z23 = _mm256_unpackhi_ps(a2, a3);    // z0 z1 . . | z4 z5 . .
+  x = _mm256_shuffle_ps(xy01, xy23, 0x44);
+  y = _mm256_shuffle_ps(xy01, xy23, 0xEE);
+  z = _mm256_shuffle_ps(z01, z23, 0x44);
+}
 // x, y, z of eight records `step` bytes apart, x of the first at p and y, z the two floats after
 // each x (the common layouts): each record's 16 bytes at its x in one load, the eight transposed
 // (an insert, two unpacks and a shuffle and a half per vector, where a gather of eight is a few
@@ -91,13 +103,8 @@ __attribute__((target("avx2"))) inline __m256 recordPairAvx2(const std::uint8_t*
 __attribute__((target("avx2"))) inline void loadXyzAvx2(const std::uint8_t* p, std::size_t step, __m256& x, __m256& y,
                                                         __m256& z)
 {
-  const __m256 a0 = recordPairAvx2(p, step, 0), a1 = recordPairAvx2(p, step, 1);
-  const __m256 a2 = recordPairAvx2(p, step, 2), a3 = recordPairAvx2(p, step, 3);
-  const __m256 xy01 = _mm256_unpacklo_ps(a0, a1), xy23 = _mm256_unpacklo_ps(a2, a3);  // x0 x1 y0 y1 | x4 x5 y4 y5
-  const __m256 z01 = _mm256_unpackhi_ps(a0, a1), z23 = _mm256_unpackhi_ps(a2, a3);    // z0 z1 . . | z4 z5 . .
-  x = _mm256_shuffle_ps(xy01, xy23, 0x44);
-  y = _mm256_shuffle_ps(xy01, xy23, 0xEE);
-  z = _mm256_shuffle_ps(z01, z23, 0x44);
+  transposeXyzAvx2(recordPairAvx2(p, step, 0), recordPairAvx2(p, step, 1), recordPairAvx2(p, step, 2),
+                   recordPairAvx2(p, step, 3), x, y, z);
 }
 
 // loadXyzAvx2 and the 32 bits 16 bytes after each x (velodyne's ring after x, y, z, intensity),
@@ -115,13 +122,16 @@ __attribute__((target("avx2"))) inline void loadXyzNext32Avx2(const std::uint8_t
     lo[k] = _mm256_permute2f128_ps(a, b, 0x20);  // x y z . of k | of k + 4
     hi[k] = _mm256_permute2f128_ps(a, b, 0x31);  // the 16 bytes after
   }
-  const __m256 xy01 = _mm256_unpacklo_ps(lo[0], lo[1]), xy23 = _mm256_unpacklo_ps(lo[2], lo[3]);
-  const __m256 z01 = _mm256_unpackhi_ps(lo[0], lo[1]), z23 = _mm256_unpackhi_ps(lo[2], lo[3]);
-  x = _mm256_shuffle_ps(xy01, xy23, 0x44);
-  y = _mm256_shuffle_ps(xy01, xy23, 0xEE);
-  z = _mm256_shuffle_ps(z01, z23, 0x44);
+  transposeXyzAvx2(lo[0], lo[1], lo[2], lo[3], x, y, z);
   const __m256 w01 = _mm256_unpacklo_ps(hi[0], hi[1]), w23 = _mm256_unpacklo_ps(hi[2], hi[3]);
   next = _mm256_castps_si256(_mm256_shuffle_ps(w01, w23, 0x44));
+}
+
+// Whether the input passes read x, y, z with gathers: on the Intel tuning profile, and wherever
+// y and z do not follow x as the plain-load forms need (cpu_tuning.hpp).
+inline bool inputGathers(std::size_t ox, std::size_t oy, std::size_t oz)
+{
+  return avx2Gathers() || oy != ox + 4 || oz != ox + 8;
 }
 
 // The 32 bits at p + j step for j in [k, k + 4), one 4-byte load each.

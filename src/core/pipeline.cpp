@@ -265,11 +265,11 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
                        out.primitives.of_grid.data(), out.label.data(), out.curvature.data(), out.smoothness.data(),
                        out.discontinuity.data(), out.primitive.data()};
   std::size_t done = 0;
+  const bool gathers = detail::avx2Gathers();  // (not on AMD, cpu_tuning.hpp: there gatherOutputGroups)
 #if defined(RC_SIMD_CLONES_ON)
-  // (not on AMD, cpu_tuning.hpp: there gatherOutputGroups)
-  if (detail::avx2Gathers()) done = gatherOutputAvx2(o, n, grid_.size());
+  if (gathers) done = gatherOutputAvx2(o, n, grid_.size());
 #endif
-  if (grid_.size() > 0 && !detail::avx2Gathers())
+  if (grid_.size() > 0 && !gathers)
     gatherOutputGroups(o, done, n);
   else
     gatherOutput(o, done, n);

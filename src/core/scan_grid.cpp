@@ -27,6 +27,18 @@ namespace ring_curvature
 namespace
 {
 
+// The coordinate gather's four store streams, on lines last written a frame ago
+// (ring_curvature/prefetch.hpp): the lines kWriteAhead positions past p.
+inline void prefetchGridStreams(std::size_t p, const double* gx, const double* gy, const double* gz,
+                                const double* gr)
+{
+  const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
+  detail::prefetchForWrite(gx, ahead);
+  detail::prefetchForWrite(gy, ahead);
+  detail::prefetchForWrite(gz, ahead);
+  detail::prefetchForWrite(gr, ahead);
+}
+
 // Grid coordinates in grid order from the input pass's float32 copies (float32 widens to double
 // exactly), a gather that vectorizes on AVX2.
 RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
@@ -36,16 +48,7 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 {
   for (std::size_t p = 0; p < m; ++p)
   {
-    // Four store streams on lines last written a frame ago (ring_curvature/prefetch.hpp), once a line.
-    if ((p & 7) == 0)
-    {
-      using detail::prefetchForWrite;
-      const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
-      prefetchForWrite(gx, ahead);
-      prefetchForWrite(gy, ahead);
-      prefetchForWrite(gz, ahead);
-      prefetchForWrite(gr, ahead);
-    }
+    if ((p & 7) == 0) prefetchGridStreams(p, gx, gy, gz, gr);  // (once a line)
     const std::uint32_t i = index[p];
     gx[p] = px[i];
     gy[p] = py[i];
@@ -59,7 +62,8 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 // input indices are eight consecutive ones (a ring that arrived in azimuth order: most of a
 // KITTI frame), the floats are read as one vector each and widened, the ranges copied as two;
 // elsewhere one position at a time, as gatherXyz. The same values either way (float32 widens
-// to double exactly). The store streams' prefetches as in gatherXyz. Returns the positions done.
+// to double exactly). The store streams' prefetches once a group (a line of each). Returns the
+// positions done.
 __attribute__((target("avx2"))) std::size_t gatherXyzRunsAvx2(std::size_t m, const std::uint32_t* index,
                                                               const float* px, const float* py, const float* pz,
                                                               const double* prange, double* gx, double* gy,
@@ -69,14 +73,7 @@ __attribute__((target("avx2"))) std::size_t gatherXyzRunsAvx2(std::size_t m, con
   std::size_t p = 0;
   for (; p + 8 <= m; p += 8)
   {
-    {
-      using detail::prefetchForWrite;
-      const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
-      prefetchForWrite(gx, ahead);
-      prefetchForWrite(gy, ahead);
-      prefetchForWrite(gz, ahead);
-      prefetchForWrite(gr, ahead);
-    }
+    prefetchGridStreams(p, gx, gy, gz, gr);
     const std::uint32_t i0 = index[p];
     const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + p));
     const __m256i want = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(i0)), lane);

@@ -177,6 +177,19 @@ const Layout kLayouts[] = {
     {16, 0, 8, 4, 12},   // z before y: gathers
     {24, 12, 4, 20, 0},  // scattered: gathers
 };
+
+// pts as one unorganized frame of layout L, through the float32 passes, against the generic pass.
+void expectUnorganizedMatches(const std::vector<Point>& pts, const Layout& L, const std::string& what)
+{
+  std::unique_ptr<GuardedBuffer> buf;
+  const PointCloudView v = writeRecords(pts, L, 1, buf);
+  const SyntheticCloud ref = reference(pts);
+  Pipeline fast, generic;
+  FrameResult rf, rg;
+  ASSERT_TRUE(fast.process(v, rf).ok) << what;
+  ASSERT_TRUE(generic.process(ref.view(), rg).ok) << what;
+  expectSameGrid(fast, rf, generic, rg, what);
+}
 }  // namespace
 
 // Unorganized frames with a ring field: sizes below, at and around multiples of 8 and 16.
@@ -184,18 +197,8 @@ TEST(InputLayouts, UnorganizedMatchesTheGenericPass)
 {
   for (const Layout& L : kLayouts)
     for (const std::size_t n : {5u, 8u, 9u, 16u, 17u, 23u, 24u, 25u, 33u, 1003u, 4096u})
-    {
-      const std::vector<Point> pts = scanPoints(n, static_cast<unsigned>(n + L.step));
-      std::unique_ptr<GuardedBuffer> buf;
-      const PointCloudView v = writeRecords(pts, L, 1, buf);
-      const SyntheticCloud ref = reference(pts);
-      Pipeline fast, generic;
-      FrameResult rf, rg;
-      const std::string what = name(L) + ", " + std::to_string(n) + " points";
-      ASSERT_TRUE(fast.process(v, rf).ok) << what;
-      ASSERT_TRUE(generic.process(ref.view(), rg).ok) << what;
-      expectSameGrid(fast, rf, generic, rg, what);
-    }
+      expectUnorganizedMatches(scanPoints(n, static_cast<unsigned>(n + L.step)), L,
+                               name(L) + ", " + std::to_string(n) + " points");
 }
 
 // Rings one after another (the coordinate gather's runs of consecutive input points, read as
@@ -204,18 +207,8 @@ TEST(InputLayouts, RingAfterRingMatchesTheGenericPass)
 {
   for (const Layout& L : {kLayouts[0], kLayouts[4], kLayouts[7]})
     for (const std::size_t n : {9u, 16u, 17u, 130u, 1003u, 4096u})
-    {
-      const std::vector<Point> pts = scanPoints(n, static_cast<unsigned>(2 * n + L.step), true);
-      std::unique_ptr<GuardedBuffer> buf;
-      const PointCloudView v = writeRecords(pts, L, 1, buf);
-      const SyntheticCloud ref = reference(pts);
-      Pipeline fast, generic;
-      FrameResult rf, rg;
-      const std::string what = name(L) + ", " + std::to_string(n) + " points ring after ring";
-      ASSERT_TRUE(fast.process(v, rf).ok) << what;
-      ASSERT_TRUE(generic.process(ref.view(), rg).ok) << what;
-      expectSameGrid(fast, rf, generic, rg, what);
-    }
+      expectUnorganizedMatches(scanPoints(n, static_cast<unsigned>(2 * n + L.step), true), L,
+                               name(L) + ", " + std::to_string(n) + " points ring after ring");
 }
 
 // A ring field of max_rings or more in any lane of a group (or in the points read one at a
