@@ -62,6 +62,21 @@ std::uint64_t outputHash(const rc::FrameResult& r)
   hashVector(h, r.primitive);
   const std::uint64_t n = r.primitives.primitives.size();
   hashBytes(h, &n, sizeof n);
+  // every field of every primitive, one by one (a struct's padding bytes are not its value)
+  for (const rc::PrimitiveInfo& p : r.primitives.primitives)
+  {
+    hashBytes(h, &p.id, sizeof p.id);
+    hashBytes(h, &p.label, sizeof p.label);
+    hashBytes(h, &p.num_points, sizeof p.num_points);
+    hashBytes(h, &p.first, sizeof p.first);
+    for (const Eigen::Vector3f* v : {&p.centroid, &p.axis, &p.eigenvalues, &p.bbox_min, &p.bbox_max})
+      hashBytes(h, v->data(), 3 * sizeof(float));
+    hashBytes(h, &p.rms_error, sizeof p.rms_error);
+    hashBytes(h, &p.ring_min, sizeof p.ring_min);
+    hashBytes(h, &p.ring_max, sizeof p.ring_max);
+  }
+  hashVector(h, r.primitives.indices);
+  hashVector(h, r.primitives.of_grid);
   return h;
 }
 
