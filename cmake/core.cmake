@@ -16,6 +16,7 @@ add_library(ring_curvature_core
   src/core/thresholds.cpp
   src/core/primitives.cpp
   src/core/primitive_sums.cpp
+  src/core/covariance_axis.cpp
   src/core/primitive_runs.cpp
   src/core/pipeline.cpp
   src/core/cpu_tuning.cpp)

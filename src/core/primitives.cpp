@@ -4,12 +4,12 @@
 #include "ring_curvature/primitives.hpp"
 
 #include "angles.hpp"
+#include "covariance_axis.hpp"
 #include "cpu_tuning.hpp"
 #include "primitive_runs.hpp"
 #include "primitive_sums.hpp"
 #include "simd_clones.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -532,20 +532,19 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     Eigen::Matrix3d cov;
     cov << S.m[0], S.mxy[0], S.m[2], S.mxy[0], S.m[1], S.mxy[1], S.m[2], S.mxy[1], S.m[3];
     cov /= static_cast<double>(np);
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-    es.computeDirect(cov);
-    const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
+    Eigen::Vector3d eigenvalues, axis;  // (covariance_axis.hpp: computeDirect's bits, one column)
+    covarianceAxis(cov, pr.label == Label::Plane ? 0 : 2, eigenvalues, axis);
+    const Eigen::Vector3d ev = eigenvalues.cwiseMax(0.0);  // ascending
     pr.eigenvalues = ev.cast<float>();
     if (pr.label == Label::Plane)
     {
-      Eigen::Vector3d nrm = es.eigenvectors().col(0);
-      if (nrm.dot(c) > 0) nrm = -nrm;  // face the sensor
-      pr.axis = nrm.cast<float>();
+      if (axis.dot(c) > 0) axis = -axis;  // face the sensor
+      pr.axis = axis.cast<float>();
       pr.rms_error = static_cast<float>(std::sqrt(ev(0)));
     }
     else
     {
-      pr.axis = es.eigenvectors().col(2).cast<float>();
+      pr.axis = axis.cast<float>();
       pr.rms_error = static_cast<float>(std::sqrt(ev(0) + ev(1)));
     }
   }
