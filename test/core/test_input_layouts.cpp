@@ -1,6 +1,7 @@
 // The float32 input passes (grid_input.cpp's readRecords, grid_organized.cpp's readOrganized)
 // over record layouts other than the shipped bags': record steps 14 to 48, x not at 0, the ring
-// before or right after z, y and z not following x (the gather form only), frame sizes around
+// before, right after z or in any 16-bit place of the 16 bytes after z (AVX-512's 32-byte reads
+// from x; across two words the gathers), y and z not following x (the gathers), frame sizes around
 // the groups of 8 and 16, rings in turn and one after another, organized rows with and without
 // a ring field and with row padding.
 // Each frame is compared bit for bit with the same values in float64 records, which take the
@@ -174,6 +175,10 @@ const Layout kLayouts[] = {
     {32, 0, 4, 8, 16},   // PCL-padded
     {48, 0, 4, 8, 26},   // ouster
     {48, 20, 24, 28, 2},  // x late in the record
+    {18, 0, 4, 8, 16},   // the ring ends the record: AVX-512's 32-byte reads come within 4 bytes of the end
+    {28, 8, 12, 16, 26},  // the ring in the high half of its word, ending the record
+    {32, 0, 4, 8, 30},   // ... in the last word of AVX-512's 32 bytes
+    {24, 0, 4, 8, 19},   // across two words: gathers
     {16, 0, 8, 4, 12},   // z before y: gathers
     {24, 12, 4, 20, 0},  // scattered: gathers
 };
@@ -205,7 +210,7 @@ TEST(InputLayouts, UnorganizedMatchesTheGenericPass)
 // vectors on the AMD profile), around the groups of eight.
 TEST(InputLayouts, RingAfterRingMatchesTheGenericPass)
 {
-  for (const Layout& L : {kLayouts[0], kLayouts[4], kLayouts[7]})
+  for (const Layout& L : {kLayouts[0], kLayouts[4], kLayouts[11]})
     for (const std::size_t n : {9u, 16u, 17u, 130u, 1003u, 4096u})
       expectUnorganizedMatches(scanPoints(n, static_cast<unsigned>(2 * n + L.step), true), L,
                                name(L) + ", " + std::to_string(n) + " points ring after ring");
@@ -217,7 +222,7 @@ TEST(InputLayouts, RingOutOfRangeInEveryLane)
 {
   Params params;
   params.max_rings = 16;
-  for (const Layout& L : {kLayouts[0], kLayouts[1], kLayouts[2], kLayouts[5]})
+  for (const Layout& L : {kLayouts[0], kLayouts[1], kLayouts[2], kLayouts[5], kLayouts[8]})
     for (std::size_t bad = 0; bad < 41; ++bad)
     {
       std::vector<Point> pts = scanPoints(41, 9);
