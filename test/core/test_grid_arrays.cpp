@@ -1,5 +1,6 @@
-// Scan grid arrays against their definitions: the nearest sample on the ring above, and the
-// organized placement, gather and ring elevations.
+// Scan grid arrays against their definitions: the nearest sample on the ring above, the
+// organized placement, gather and ring elevations, and the unorganized grid positions, verdicts
+// and ring elevations.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -137,3 +138,120 @@ TEST(ScanGrid, OrganizedGridMatchesItsInput)
   }
   EXPECT_EQ(g.size(), pos);
 }
+
+// Unorganized rings interleaved point by point (velodyne's dual-return firing order: a firing's
+// first returns of every ring, then its second returns, then a few thirds): the grid positions,
+// the verdicts of the folded copies (resolved by blocks of the input, the rings' lists side by
+// side, each in its order) and each ring's elevation against their definitions and against the
+// same points sent ring after ring (one list of folded copies, in input order). 19 rings of
+// unlike sizes, empty and single-point ones and NaN returns among them, so that the rings' lists
+// end in different blocks; third returns that follow a folded copy.
+TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
+{
+  constexpr double kPiD = 3.14159265358979323846;
+  const int samples[] = {900, 905, 899, 1400, 3, 0, 1, 7, 900, 902, 450, 900, 900, 1200, 901, 903, 5, 900, 17};
+  const int rings = static_cast<int>(sizeof samples / sizeof samples[0]);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  struct Return
+  {
+    double x, y, z;
+    bool nan;
+  };
+  // returns[r][k]: the first, second and third returns of sample k of ring r (empty: none)
+  std::vector<std::vector<std::vector<Return>>> returns(rings);
+  int longest = 0;
+  for (int r = 0; r < rings; ++r)
+  {
+    longest = std::max(longest, samples[r]);
+    const double step = 2 * kPiD / std::max(samples[r], 1), phi = (-15 + 1.6 * r) * kDeg;
+    for (int k = 0; k < samples[r]; ++k)
+    {
+      const double az = kPiD - (k + 0.3 * (u(rng) - 0.5) + 0.37 * r) * step;  // clockwise
+      const double range = 5 + 10 * u(rng), far = range + 0.5;
+      const auto at = [&](double d, bool nan) {
+        return Return{d * std::cos(phi) * std::cos(az), d * std::cos(phi) * std::sin(az), d * std::sin(phi), nan};
+      };
+      std::vector<Return> f{at(range, u(rng) < 0.03)};
+      const double v = u(rng);
+      if (v < 0.55) f.push_back(f[0]);  // an identical copy: folded
+      else if (v < 0.75) f.push_back(at(far, false));  // a second return off the grid
+      if (f.size() == 2 && u(rng) < 0.15) f.push_back(u(rng) < 0.7 ? f[0] : at(far + 0.3, false));
+      returns[r].push_back(f);
+    }
+  }
+  struct Id
+  {
+    int ring, k, rank;
+  };
+  std::vector<Id> fired, ring_order;  // the two input orders
+  for (int k = 0; k < longest; ++k)
+    for (int rank = 0; rank < 3; ++rank)
+      for (int r = 0; r < rings; ++r)
+        if (k < samples[r] && rank < static_cast<int>(returns[r][k].size())) fired.push_back({r, k, rank});
+  for (int r = 0; r < rings; ++r)
+    for (int k = 0; k < samples[r]; ++k)
+      for (int rank = 0; rank < static_cast<int>(returns[r][k].size()); ++rank) ring_order.push_back({r, k, rank});
+  const auto cloud = [&](const std::vector<Id>& order) {
+    SyntheticCloud c;
+    for (const Id& id : order)
+    {
+      const Return& q = returns[id.ring][id.k][id.rank];
+      if (q.nan)
+        c.addNaN(id.ring);
+      else
+        c.add(q.x, q.y, q.z, id.ring);
+    }
+    return c;
+  };
+  const SyntheticCloud cf = cloud(fired), cr = cloud(ring_order);
+  Pipeline pf, pr;
+  FrameResult rf, rr;
+  ASSERT_TRUE(pf.process(cf.view(), rf).ok);
+  ASSERT_TRUE(pr.process(cr.view(), rr).ok);
+  const ScanGrid &g = pf.grid(), &gr = pr.grid();
+  ASSERT_EQ(g.num_rings, rings);
+  EXPECT_GT(g.num_folded, fired.size() / 4);  // most identical copies were folded
+  EXPECT_GT(g.num_second_returns, 1000u);
+  // every grid position, and each ring's elevation from its sines summed in grid order
+  for (std::uint32_t p = 0; p < g.size(); ++p) ASSERT_EQ(g.grid_pos[g.index[p]], static_cast<std::int32_t>(p)) << p;
+  for (int r = 0; r < rings; ++r)
+  {
+    const std::uint32_t b = g.ring_begin[r], e = g.ring_begin[r + 1];
+    double s = 0;
+    for (std::uint32_t p = b; p < e; ++p) s += g.z[p] / g.range[p];
+    const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
+    EXPECT_EQ(g.ring_elevation[r], static_cast<float>(std::asin(sine))) << r;
+    EXPECT_EQ(g.ring_cos[r], static_cast<float>(std::sqrt(1.0 - sine * sine))) << r;
+    EXPECT_EQ(g.ring_elevation[r], gr.ring_elevation[r]) << r;
+  }
+  // Each point's state and grid position are those of the same point sent ring after ring (the
+  // grids hold the same points in the same order: each ring keeps its points' order in both).
+  ASSERT_EQ(g.size(), gr.size());
+  std::vector<std::size_t> in_ring_order(fired.size());
+  {
+    std::vector<std::size_t> first_of_ring(rings + 1, 0);
+    for (const Id& id : ring_order) ++first_of_ring[id.ring + 1];
+    for (int r = 0; r < rings; ++r) first_of_ring[r + 1] += first_of_ring[r];
+    std::vector<std::size_t> seen(rings, 0);
+    for (std::size_t i = 0; i < fired.size(); ++i)
+      in_ring_order[i] = first_of_ring[fired[i].ring] + seen[fired[i].ring]++;
+  }
+  std::size_t duplicates = 0;
+  for (std::size_t i = 0; i < fired.size(); ++i)
+  {
+    const std::size_t j = in_ring_order[i];
+    ASSERT_EQ(static_cast<int>(g.state[i]), static_cast<int>(gr.state[j])) << i;
+    ASSERT_EQ(g.grid_pos[i], gr.grid_pos[j]) << i;
+    duplicates += g.state[i] == PointState::Duplicate ? 1 : 0;
+  }
+  EXPECT_EQ(g.num_duplicates, duplicates);
+  EXPECT_EQ(g.num_duplicates, gr.num_duplicates);
+  EXPECT_EQ(g.num_second_returns, gr.num_second_returns);
+  EXPECT_EQ(rf.label, [&] {
+    std::vector<std::uint8_t> l(fired.size());
+    for (std::size_t i = 0; i < fired.size(); ++i) l[i] = rr.label[in_ring_order[i]];
+    return l;
+  }());
+}
+
