@@ -267,6 +267,94 @@ template <class At>
   windowSums(n, s0, s1, s2, [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
 }
 
+// Window sums of nearGapDirect: the n_all samples at(0) .. at(n_all - 1) relative to the
+// first, and of the first n_left of them (same first sample) the sum of (j - jbar) d: the left
+// window's sums of d and d^2 are the whole window's after n_left steps (the same additions in
+// the same order), taken there rather than summed again.
+template <class At>
+[[gnu::always_inline]] inline void sharedWindowSums(std::size_t n_all, std::size_t n_left, double* all, double* left,
+                                                    At at)
+{
+  const double ref = at(0), jbar = 0.5 * static_cast<double>(n_all - 1);
+  const double jbar_l = 0.5 * static_cast<double>(n_left - 1);
+  double s0 = 0, s1 = 0, s2 = 0, s1l = 0;
+  std::size_t j = 0;
+  for (; j < n_left; ++j)
+  {
+    const double d = at(j) - ref;
+    s0 += d;
+    s1 += (static_cast<double>(j) - jbar) * d;
+    s2 += d * d;
+    s1l += (static_cast<double>(j) - jbar_l) * d;
+  }
+  left[0] = s0;
+  left[1] = s1l;
+  left[2] = s2;
+  for (; j < n_all; ++j)
+  {
+    const double d = at(j) - ref;
+    s0 += d;
+    s1 += (static_cast<double>(j) - jbar) * d;
+    s2 += d * d;
+  }
+  all[0] = s0;
+  all[1] = s1;
+  all[2] = s2;
+}
+
+// nearGapSmoothness for the direct windows (detrended, w <= kMaxDirect), in double, each window
+// relative to its first sample, with the centred and the left window summed in one pass
+// (sharedWindowSums), and a one-sided window that is the centred one (a sample at a gap: no
+// link on that side) not formed again (the same bits: min(v, v) is v). ab_core: features 0.956-0.979
+// on the 29k-point VLP-16 dual-return frames (8.6 % of their samples lie near a gap), 0.966 on the
+// 14.7k frames, 0.974 OS1-128, 1.003 KITTI (2 % near a gap). Extended index j is ring sample
+// j - ext: a window's ranges in place, or, where it reaches across the seam of a closed ring
+// (rare), wrapped one by one (the right window lies inside the centred one).
+// (Windows of at most 2 kMaxDirect + 1 samples: the tables hold their factors.)
+inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* L, const int* R, const double* rho,
+                          const double* ic, const double* it, float* out)
+{
+  const auto nearGap = [&](int k) __attribute__((always_inline)) {
+    const int a = std::min(w, L[k]), z = std::min(w, R[k]);  // reach of the window, left / right
+    const std::size_t n = static_cast<std::size_t>(a + z + 1), n_left = static_cast<std::size_t>(a + 1);
+    if (n < 2)
+    {
+      out[k] = n == 1 ? 0.0f : kNaN;
+      return;
+    }
+    const std::ptrdiff_t first = k - a;  // ring sample of the window's first
+    const bool in_place = first >= 0 && first + static_cast<std::ptrdiff_t>(n) <= K;
+    double all[3], left[3];
+    if (in_place)
+      sharedWindowSums(n, n_left, all, left, [rs = rho + first](std::size_t j) { return rs[j]; });
+    else
+      sharedWindowSums(n, n_left, all, left,
+                       [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
+    double var = residualVariance(all[0], all[1], all[2], ic[n], it[n]);
+    if (n_left >= 3 && z > 0)
+      var = std::min(var, residualVariance(left[0], left[1], left[2], ic[n_left], it[n_left]));
+    const std::size_t n_right = static_cast<std::size_t>(z + 1);
+    if (n_right >= 3 && a > 0)
+    {
+      double s0, s1, s2;
+      if (in_place)
+        windowSums(n_right, s0, s1, s2, [rs = rho + k](std::size_t j) { return rs[j]; });
+      else
+        seamWindowSums(rho, K, k, n_right, s0, s1, s2);
+      var = std::min(var, residualVariance(s0, s1, s2, ic[n_right], it[n_right]));
+    }
+    out[k] = static_cast<float>(var);
+  };
+  for (int i = 0; i + 1 < num_seg; ++i)
+  {
+    const int p = seg[i], q = seg[i + 1];
+    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
+    for (int k = a1; k < a2; ++k) nearGap(k);
+    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
+    for (int k = b1; k < b2; ++k) nearGap(k);
+  }
+}
+
 inline void fullWindowSmoothness(int K, int w, int ext, bool detrend, int E, const double* S0, const double* S1,
                                  const double* S2, float* out)
 {
@@ -302,18 +390,7 @@ RC_SIMD_CLONES_WIDE void ringSmoothness(int K, int w, bool closed, bool detrend,
     // the samples near a gap in double, relative to the window's first sample (same reason).
     directSmoothness(K, w, rpf, out);
     // (Windows of at most 2 kMaxDirect + 1 samples: the tables above hold their factors.)
-    nearGapSmoothness(K, w, ext, seg, num_seg, L, R, out, [&](std::size_t lo, std::size_t hi) {
-      // Extended index j is ring sample j - ext: the window's ranges in place, or, where it
-      // reaches across the seam of a closed ring (rare), wrapped one by one.
-      const std::ptrdiff_t first = static_cast<std::ptrdiff_t>(lo) - ext;
-      const std::size_t n_win = hi - lo;
-      double s0, s1, s2;
-      if (first >= 0 && first + static_cast<std::ptrdiff_t>(n_win) <= K)
-        windowSums(n_win, s0, s1, s2, [rs = rho + first](std::size_t j) { return rs[j]; });
-      else
-        seamWindowSums(rho, K, first, n_win, s0, s1, s2);
-      return residualVariance(s0, s1, s2, inv_cnt_table[hi - lo], inv_trend_table[hi - lo]);
-    }, true);
+    nearGapDirect(K, w, seg, num_seg, L, R, rho, inv_cnt_table, inv_trend_table, out);
     return;
   }
   // Prefix sums over the ring, extended by w on each side for closed rings so that windows wrap

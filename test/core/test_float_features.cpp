@@ -201,3 +201,85 @@ TEST(FloatFeatures, ChordAndJumpMatchDoubleFormulas)
     EXPECT_LT(d.jump, 8.0) << "r0 " << r0;
   }
 }
+
+// The near-gap windows of the default smoothness (nearGapDirect: in double, the centred and the
+// left window summed in one pass, a one-sided window equal to the centred one not formed again)
+// bit for bit against their definition written here: each window's ranges relative to its first,
+// summed in index order, its residual variance with 1 / n and the trend factor (none for two
+// samples), the smaller of the centred and the one-sided windows of 3 or more samples. Rings of
+// segments of 1 to 9 samples between holes of 4 give every reach (0 to w on each side) and single
+// samples.
+TEST(FloatFeatures, NearGapSmoothnessBitForBit)
+{
+  SyntheticCloud cloud;
+  const int n = 1800;
+  for (int ring = 0; ring < 2; ++ring)
+  {
+    int len = 1 + ring, run = 0;  // current segment's length, samples placed in it
+    for (int j = 0; j < n; ++j)
+    {
+      if (run == len)
+      {
+        j += 3;  // a hole of 4 samples
+        run = 0;
+        len = len % 9 + 1;
+        continue;
+      }
+      ++run;
+      const double th = -kPi + 2 * kPi * (j + 0.25) / n;
+      const double rho = 5.0 * (1.0 + 0.3 * std::sin(3 * th)) + 0.02 * std::sin(j * 2.3) * std::cos(j * 0.7);
+      cloud.add(rho * std::cos(th), rho * std::sin(th), ring == 0 ? 0.0 : -0.27 * rho, ring);
+    }
+  }
+  Params params;
+  Pipeline pipe(params);
+  FrameResult res;
+  ASSERT_TRUE(pipe.process(cloud.view(), res).ok);
+  const ScanGrid& g = pipe.grid();
+  const int w = params.smoothness_window;
+  int compared = 0, single = 0, at_gap = 0;
+  for (int ring = 0; ring < g.num_rings; ++ring)
+  {
+    const int b0 = static_cast<int>(g.ring_begin[ring]), K = static_cast<int>(g.ringSize(ring));
+    const auto r = [&](int k) { return g.range[b0 + ((k % K) + K) % K]; };
+    const auto linked = [&](int k) { return g.linked[b0 + ((k % K) + K) % K] != 0; };
+    const auto window = [&](int first, int cnt) {
+      const double ref = r(first), jbar = 0.5 * (cnt - 1);
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (int j = 0; j < cnt; ++j)
+      {
+        const double d = r(first + j) - ref;
+        s0 += d;
+        s1 += (j - jbar) * d;
+        s2 += d * d;
+      }
+      // no trend removed from a window of two (it would leave nothing)
+      const double c = cnt, ic = 1.0 / c, it = cnt >= 3 ? 1.0 / ((c * c - 1.0) * c * (1.0 / 12.0) * c) : 0.0;
+      const double mean = s0 * ic;
+      return std::max(0.0, s2 * ic - mean * mean - s1 * s1 * it);
+    };
+    for (int k = 0; k < K; ++k)
+    {
+      int a = 0, z = 0;
+      while (a < w && linked(k - a)) ++a;
+      while (z < w && linked(k + z + 1)) ++z;
+      if (a == w && z == w) continue;
+      float want = 0.0f;
+      if (a + z > 0)
+      {
+        double v = window(k - a, a + z + 1);
+        if (a + 1 >= 3) v = std::min(v, window(k - a, a + 1));
+        if (z + 1 >= 3) v = std::min(v, window(k, z + 1));
+        want = static_cast<float>(v);
+      }
+      single += a + z == 0;
+      at_gap += (a == 0) != (z == 0);
+      ++compared;
+      ASSERT_EQ(want, pipe.features().smoothness[b0 + k])
+          << "ring " << ring << " sample " << k << " a " << a << " z " << z;
+    }
+  }
+  EXPECT_GT(single, 20);
+  EXPECT_GT(at_gap, 100);
+  EXPECT_GT(compared, 1000);
+}
