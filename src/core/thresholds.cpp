@@ -403,7 +403,7 @@ struct DeviationWalk
   float d;
 };
 // (Distances upwards from `from_up` and downwards from `from_dn`: both med here, the edges of
-// med's bin in deviationCeiling.)
+// med's bin in ceilingBelow.)
 template <bool kUpper>
 inline void deviationStep(const BinnedRing& r, std::uint32_t lowest, float from_up, float from_dn, DeviationWalk& w)
 {
@@ -442,14 +442,22 @@ void deviationBounds(const BinnedRing& r, std::uint32_t med_bin, float med, std:
 // is monotonic), and the bins taken outwards in increasing order of that bound until more than
 // `rank` values are taken leave the rank-th deviation at or below the last bound taken. The same
 // walk as deviationBounds, from the histogram alone: no exact median needed.
-float deviationCeiling(const BinnedRing& r, std::uint32_t med_bin, std::size_t rank)
+// Whether median + scale * MAD < out is certain from the histogram alone: top + scale * (the
+// ceiling) < out, with top the upper edge of med_bin. The bounds taken only grow along the walk
+// (it takes the smaller of two growing sequences), and float + and * by scale >= 0 are monotonic,
+// so the walk stops, false, at the first bound that already reaches out.
+bool ceilingBelow(const BinnedRing& r, std::uint32_t med_bin, std::size_t rank, float scale, float out)
 {
   const float top = highEdge(med_bin), bottom = lowEdge(med_bin);
   const std::uint32_t lowest = r.lowest > 1 ? r.lowest : kBins;  // (kBins: no jump)
   DeviationWalk w{med_bin + 1 > r.highest ? kFiniteBins : med_bin + 1, med_bin == lowest ? 1 : med_bin,
                   r.count[med_bin], top - bottom};
-  while (w.seen <= rank) deviationStep<true>(r, lowest, bottom, top, w);
-  return w.d;
+  while (w.seen <= rank)
+  {
+    if (!(top + scale * w.d < out)) return false;
+    deviationStep<true>(r, lowest, bottom, top, w);
+  }
+  return top + scale * w.d < out;
 }
 
 // Value of rank k in c[0, m) (m > k), the wanted bins' values. Few: counted for each value, those
@@ -515,9 +523,9 @@ RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k,
   r.countBins(x, n);
   std::size_t below = 0;
   const std::uint32_t b = r.findFirst(rank, below);
-  // Then from the histogram: the median's bin and the MAD's ceiling (deviationCeiling); when
+  // Then from the histogram: the median's bin and the MAD's ceiling (ceilingBelow); when
   // they suffice, the two passes over the ring and the two selections are skipped.
-  if (scale >= 0.0f && highEdge(b) + scale * deviationCeiling(r, b, rank) < out)
+  if (scale >= 0.0f && ceilingBelow(r, b, rank, scale, out))
   {
     r.release();
     return true;
