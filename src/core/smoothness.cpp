@@ -247,18 +247,20 @@ template <class WindowVar>
 
 // Sums over a window of n ranges at(0) .. at(n - 1), relative to its first: of the differences,
 // of their products with the centred index, and of their squares (the near-gap windows in double).
+// One sample's terms: difference d of index j in a window centred at jbar.
+[[gnu::always_inline]] inline void addWindowSample(double d, std::size_t j, double jbar, double& s0, double& s1,
+                                                   double& s2)
+{
+  s0 += d;
+  s1 += (static_cast<double>(j) - jbar) * d;
+  s2 += d * d;
+}
 template <class At>
 [[gnu::always_inline]] inline void windowSums(std::size_t n, double& s0, double& s1, double& s2, At at)
 {
   const double ref = at(0), jbar = 0.5 * static_cast<double>(n - 1);
   s0 = s1 = s2 = 0;
-  for (std::size_t j = 0; j < n; ++j)
-  {
-    const double d = at(j) - ref;
-    s0 += d;
-    s1 += (static_cast<double>(j) - jbar) * d;
-    s2 += d * d;
-  }
+  for (std::size_t j = 0; j < n; ++j) addWindowSample(at(j) - ref, j, jbar, s0, s1, s2);
 }
 // The same for a window of ring samples first .. first + n - 1 across the seam of a closed ring.
 [[gnu::always_inline]] inline void seamWindowSums(const double* rho, int K, std::ptrdiff_t first, std::size_t n,
@@ -282,21 +284,13 @@ template <class At>
   for (; j < n_left; ++j)
   {
     const double d = at(j) - ref;
-    s0 += d;
-    s1 += (static_cast<double>(j) - jbar) * d;
-    s2 += d * d;
+    addWindowSample(d, j, jbar, s0, s1, s2);
     s1l += (static_cast<double>(j) - jbar_l) * d;
   }
   left[0] = s0;
   left[1] = s1l;
   left[2] = s2;
-  for (; j < n_all; ++j)
-  {
-    const double d = at(j) - ref;
-    s0 += d;
-    s1 += (static_cast<double>(j) - jbar) * d;
-    s2 += d * d;
-  }
+  for (; j < n_all; ++j) addWindowSample(at(j) - ref, j, jbar, s0, s1, s2);
   all[0] = s0;
   all[1] = s1;
   all[2] = s2;
