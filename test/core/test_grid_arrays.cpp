@@ -19,6 +19,15 @@ using namespace ring_curvature::test;
 namespace
 {
 constexpr double kDeg = 3.14159265358979323846 / 180;
+
+// Ring r's elevation and cone cosine as the grid defines them: from the mean of its n samples'
+// sines z / range, whose sum (in grid order) is `sines`.
+void expectRingElevation(const ScanGrid& g, int r, double sines, std::uint32_t n)
+{
+  const double sine = n > 0 ? std::clamp(sines / n, -1.0, 1.0) : 0.0;
+  EXPECT_EQ(g.ring_elevation[r], static_cast<float>(std::asin(sine))) << r;
+  EXPECT_EQ(g.ring_cos[r], static_cast<float>(std::sqrt(1.0 - sine * sine))) << r;
+}
 }  // namespace
 
 // The nearest sample on the ring above against its definition: of the last sample above at or
@@ -131,10 +140,7 @@ TEST(ScanGrid, OrganizedGridMatchesItsInput)
       s += z / range;
       ++pos;
     }
-    const std::uint32_t n = pos - g.ring_begin[r];
-    const double sine = n > 0 ? std::clamp(s / n, -1.0, 1.0) : 0.0;
-    EXPECT_EQ(g.ring_elevation[r], static_cast<float>(std::asin(sine))) << r;
-    EXPECT_EQ(g.ring_cos[r], static_cast<float>(std::sqrt(1.0 - sine * sine))) << r;
+    expectRingElevation(g, r, s, pos - g.ring_begin[r]);
   }
   EXPECT_EQ(g.size(), pos);
 }
@@ -220,9 +226,7 @@ TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
     const std::uint32_t b = g.ring_begin[r], e = g.ring_begin[r + 1];
     double s = 0;
     for (std::uint32_t p = b; p < e; ++p) s += g.z[p] / g.range[p];
-    const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
-    EXPECT_EQ(g.ring_elevation[r], static_cast<float>(std::asin(sine))) << r;
-    EXPECT_EQ(g.ring_cos[r], static_cast<float>(std::sqrt(1.0 - sine * sine))) << r;
+    expectRingElevation(g, r, s, e - b);
     EXPECT_EQ(g.ring_elevation[r], gr.ring_elevation[r]) << r;
   }
   // Each point's state and grid position are those of the same point sent ring after ring (the
