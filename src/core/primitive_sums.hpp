@@ -2,13 +2,15 @@
 // file of their own: primitives.cpp would otherwise outgrow the 600-line limit.
 #pragma once
 
+#include "simd_clones.hpp"
+
 #include <cstdint>
 
 namespace ring_curvature
 {
 
 /// The sums of one primitive: its box and centroid in float, lanes (x, y, z, z), and its second
-/// moments about the centroid in double, (xx, yy, zx, zz) and (xy, yz), not yet divided by the
+/// moments about its mean in double, (xx, yy, zx, zz) and (xy, yz), not yet divided by the
 /// number of points.
 struct PrimitiveSums
 {
@@ -17,9 +19,19 @@ struct PrimitiveSums
   alignas(16) double mxy[2];
 };
 
-/// The sums over the np points whose grid positions are sp[0, np), in that order: ng grid points
-/// (which make the box), then np - ng duplicates. gx, gy, gz: the grid's coordinates.
+/// The sums over the np points whose grid positions are sp[0, np), in that order: ng >= 1 grid
+/// points (which make the box), then np - ng duplicates. gx, gy, gz: the grid's coordinates.
 void primitiveSums(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx, const double* gy,
                    const double* gz, PrimitiveSums& out);
+
+/// primitiveSums' baseline form (SSE2), which it runs on a CPU without AVX2.
+void primitiveSumsPlain(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx,
+                        const double* gy, const double* gz, PrimitiveSums& out);
+
+#if defined(RC_SIMD_CLONES_ON)
+/// primitiveSums' AVX2 form: the same bits as primitiveSumsPlain. Only with AVX2.
+void primitiveSumsAvx2(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx,
+                       const double* gy, const double* gz, PrimitiveSums& out);
+#endif
 
 }  // namespace ring_curvature

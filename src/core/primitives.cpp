@@ -519,7 +519,8 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   duplicateSlots(dups, num_dups, grid_pos, comp, dup_root, dup_rank, total, indices, slot_pos);
   out.indices.resize(total);
 
-  // Box, centroid, moments and axes, primitive by primitive (primitive_sums.cpp for the sums)
+  // Box, centroid, moments and axes, primitive by primitive (primitive_sums.cpp for the sums, one
+  // pass in double: the covariance is about the mean, the centroid that mean rounded to float)
   for (auto& pr : out.primitives)
   {
     PrimitiveSums S;

@@ -244,10 +244,12 @@ TEST(BoxScene, NoiseFreeCreasesJumpsAndFaces) { runBoxScene(0.0, {0.9, 0.95, 0.9
 TEST(BoxScene, OneCentimetreNoise) { runBoxScene(0.01, {0.65, 0.9, 0.7, 0.98}); }
 
 // Each primitive's box, centroid, eigenvalues, axis and RMS error are, bit for bit, those of the
-// plain per-point accumulation over its indices in order (float box and sums, double moments
-// about the float centroid, Eigen's direct solver), whichever code path the extractor takes
-// (AVX2 or not). With every firing twice (dual return), half of each primitive's points are
-// duplicates after its grid points. Noise gives every coordinate its own low bits.
+// plain per-point accumulation over its indices in order (the float box of its points; in
+// double about its first point r, the sums of d = p - r, d d and the cross products, the centroid
+// r + sum(d) / n, the moments about it sum(d d^T) - sum(d) sum(d)^T / n; Eigen's direct solver),
+// whichever code path the extractor takes (AVX2 or not). With every firing twice (dual return),
+// half of each primitive's points are duplicates after its grid points. Noise gives every
+// coordinate its own low bits.
 TEST(BoxScene, PrimitiveSummariesArePerPointSums)
 {
   const SensorModel vlp = SensorModel::uniform(16, -15, 15, 0.2);
@@ -265,27 +267,39 @@ TEST(BoxScene, PrimitiveSummariesArePerPointSums)
     std::size_t duplicates = 0;
     for (const PrimitiveInfo& pr : prims)
     {
-      Eigen::Vector3f lo, hi, sum = Eigen::Vector3f::Zero();
-      std::vector<Eigen::Vector3d> pts;
+      Eigen::Vector3f lo, hi;
+      Eigen::Vector3d ref = Eigen::Vector3d::Zero(), s = Eigen::Vector3d::Zero();
+      double xx = 0, yy = 0, zz = 0, xy = 0, yz = 0, zx = 0;
       for (std::uint32_t j = 0; j < pr.num_points; ++j)
       {
         const std::uint32_t i = r.primitives.indices[pr.first + j];
         duplicates += g.state[i] == PointState::Duplicate ? 1 : 0;
         const auto pos = static_cast<std::size_t>(g.grid_pos[i]);
-        pts.emplace_back(g.x[pos], g.y[pos], g.z[pos]);
-        const Eigen::Vector3f v = pts.back().cast<float>();
+        const Eigen::Vector3d p(g.x[pos], g.y[pos], g.z[pos]);
+        const Eigen::Vector3f v = p.cast<float>();
+        if (j == 0) ref = p;
         lo = j == 0 ? v : Eigen::Vector3f(lo.cwiseMin(v));
         hi = j == 0 ? v : Eigen::Vector3f(hi.cwiseMax(v));
-        sum += v;
+        const Eigen::Vector3d d = p - ref;
+        s += d;
+        xx += d.x() * d.x();
+        yy += d.y() * d.y();
+        zz += d.z() * d.z();
+        xy += d.x() * d.y();
+        yz += d.y() * d.z();
+        zx += d.z() * d.x();
       }
-      const Eigen::Vector3f centroid = sum / static_cast<float>(pr.num_points);
-      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-      for (const Eigen::Vector3d& p : pts)
-      {
-        const Eigen::Vector3d d = p - centroid.cast<double>();
-        cov += d * d.transpose();
-      }
-      cov /= static_cast<double>(pr.num_points);
+      const auto n = static_cast<double>(pr.num_points);
+      const Eigen::Vector3d mean = s / n;
+      const Eigen::Vector3f centroid = (ref + mean).cast<float>();
+      Eigen::Matrix3d cov;
+      cov(0, 0) = xx - s.x() * mean.x();
+      cov(1, 1) = yy - s.y() * mean.y();
+      cov(2, 2) = zz - s.z() * mean.z();
+      cov(0, 1) = cov(1, 0) = xy - s.x() * mean.y();
+      cov(1, 2) = cov(2, 1) = yz - s.y() * mean.z();
+      cov(2, 0) = cov(0, 2) = zx - s.z() * mean.x();
+      cov /= n;
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
       es.computeDirect(cov);
       const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);

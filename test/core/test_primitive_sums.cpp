@@ -1,16 +1,23 @@
-// The primitives' box, centroid and moment sums (primitiveSums: AVX2 intrinsics where the CPU has
-// them, the plain vector code otherwise) against the per-point accumulation they replace, bit for
-// bit: the box from std::min / std::max of float points, the centroid from their float sum in
-// index order, and the six second moments summed in double, point by point, about the float
-// centroid cast to double. Primitives of many sizes (one point up to a few hundred, not multiples
-// of any vector width) with duplicates (later copies of earlier grid points, summed but not
-// boxed), and coordinates far from the origin so that every rounding shows in the last bits.
+// The primitives' box, centroid and moment sums (primitiveSums: primitiveSumsAvx2 where the CPU
+// has AVX2, primitiveSumsPlain otherwise; both are checked) against their definition, bit for
+// bit: the box from std::min / std::max of the points' floats (as it was before the sums became
+// one pass), and about the first point r the double sums of d = p - r, of d d and of d rot(d),
+// point by point in index order, from which the centroid is r + sum(d) / n and the moments
+// sum(d d^T) - sum(d) sum(d)^T / n. Primitives of many sizes (one point up to a few hundred, not
+// multiples of any vector width) with duplicates (later copies of earlier grid points, summed
+// but not boxed), coordinates far from the origin so that every rounding shows in the last bits,
+// and signed zeros and tiny coordinates for the box. Then the accuracy: against a long double
+// two-pass reference, the one-pass covariance and centroid are at least as close as those of the
+// old scheme (a float centroid, the moments about it), primitive by primitive and overall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "../../src/core/primitive_sums.hpp"
@@ -19,69 +26,99 @@ using namespace ring_curvature;
 
 namespace
 {
-void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const std::vector<double>& gx,
-               const std::vector<double>& gy, const std::vector<double>& gz, PrimitiveSums& out)
+using Grid = std::vector<double>;
+
+// The definition, one point and one coordinate at a time
+void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const Grid& gx, const Grid& gy,
+               const Grid& gz, PrimitiveSums& out)
 {
-  float lo[3], hi[3], sum[3] = {0, 0, 0};
-  // the first point starts the box
-  for (int i = 0; i < 3; ++i) lo[i] = hi[i] = static_cast<float>((i == 0 ? gx : i == 1 ? gy : gz)[sp[0]]);
+  const Grid* g[3] = {&gx, &gy, &gz};
+  float lo[3], hi[3];
+  double r[3], s[3] = {0, 0, 0};
+  double xx = 0, yy = 0, zz = 0, xy = 0, yz = 0, zx = 0;
+  for (int i = 0; i < 3; ++i)
+  {
+    r[i] = (*g[i])[sp[0]];
+    lo[i] = hi[i] = static_cast<float>(r[i]);  // the first point starts the box
+  }
   for (std::uint32_t k = 0; k < np; ++k)
   {
-    const float v[3] = {static_cast<float>(gx[sp[k]]), static_cast<float>(gy[sp[k]]), static_cast<float>(gz[sp[k]])};
+    double d[3];
     for (int i = 0; i < 3; ++i)
     {
+      const double p = (*g[i])[sp[k]];
       if (k < ng)
       {
-        lo[i] = std::min(lo[i], v[i]);
-        hi[i] = std::max(hi[i], v[i]);
+        lo[i] = std::min(lo[i], static_cast<float>(p));
+        hi[i] = std::max(hi[i], static_cast<float>(p));
       }
-      sum[i] = sum[i] + v[i];
+      d[i] = p - r[i];
+      s[i] = s[i] + d[i];
     }
+    xx = xx + d[0] * d[0];
+    yy = yy + d[1] * d[1];
+    zz = zz + d[2] * d[2];
+    xy = xy + d[0] * d[1];
+    yz = yz + d[1] * d[2];
+    zx = zx + d[2] * d[0];
   }
-  const float fn = static_cast<float>(np);
-  const float c[3] = {sum[0] / fn, sum[1] / fn, sum[2] / fn};
-  double xx = 0, yy = 0, zz = 0, xy = 0, yz = 0, zx = 0;
-  for (std::uint32_t k = 0; k < np; ++k)
-  {
-    const double dx = gx[sp[k]] - static_cast<double>(c[0]), dy = gy[sp[k]] - static_cast<double>(c[1]),
-                 dz = gz[sp[k]] - static_cast<double>(c[2]);
-    xx = xx + dx * dx;
-    yy = yy + dy * dy;
-    zz = zz + dz * dz;
-    xy = xy + dx * dy;
-    yz = yz + dy * dz;
-    zx = zx + dz * dx;
-  }
+  const double n = static_cast<double>(np);
+  const double mean[3] = {s[0] / n, s[1] / n, s[2] / n};
   std::memset(&out, 0, sizeof out);
   for (int i = 0; i < 3; ++i)
   {
     out.lo[i] = lo[i];
     out.hi[i] = hi[i];
-    out.centroid[i] = c[i];
+    out.centroid[i] = static_cast<float>(r[i] + mean[i]);
   }
-  out.m[0] = xx;
-  out.m[1] = yy;
-  out.m[2] = zx;
-  out.m[3] = zz;
-  out.mxy[0] = xy;
-  out.mxy[1] = yz;
+  out.m[0] = xx - s[0] * mean[0];
+  out.m[1] = yy - s[1] * mean[1];
+  out.m[2] = zx - s[2] * mean[0];
+  out.m[3] = zz - s[2] * mean[2];
+  out.mxy[0] = xy - s[0] * mean[1];
+  out.mxy[1] = yz - s[1] * mean[2];
 }
 
-TEST(PrimitiveSums, BitForBitAgainstPerPointSums)
+// The scheme before the one pass, as a comparison: the centroid a float sum of the points'
+// floats divided by n, the moments in double about that centroid
+void oldScheme(const std::uint32_t* sp, std::uint32_t np, const Grid& gx, const Grid& gy, const Grid& gz,
+               float centroid[3], double cov[3][3])
 {
-  std::mt19937 rng(7);
-  const std::uint32_t n_grid = 5000;
-  std::vector<double> gx(n_grid), gy(n_grid), gz(n_grid);
-  std::uniform_real_distribution<double> off(-80.0, 80.0), spread(-3.0, 3.0);
-  for (std::uint32_t p = 0; p < n_grid; ++p)
+  const Grid* g[3] = {&gx, &gy, &gz};
+  float sum[3] = {0, 0, 0};
+  for (std::uint32_t k = 0; k < np; ++k)
+    for (int i = 0; i < 3; ++i) sum[i] = sum[i] + static_cast<float>((*g[i])[sp[k]]);
+  const float fn = static_cast<float>(np);
+  for (int i = 0; i < 3; ++i) centroid[i] = sum[i] / fn;
+  double m[3][3] = {};
+  for (std::uint32_t k = 0; k < np; ++k)
   {
-    // clusters around far centres, so the centroid's float rounding and the differences matter
-    const double cx = off(rng) * (p % 7 == 0 ? 1.0 : 0.01);
-    gx[p] = 40.0 + cx + spread(rng);
-    gy[p] = -25.0 + spread(rng) * 0.3;
-    gz[p] = -1.7 + spread(rng) * 0.05;
+    double d[3];
+    for (int i = 0; i < 3; ++i) d[i] = (*g[i])[sp[k]] - static_cast<double>(centroid[i]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m[i][j] = m[i][j] + d[i] * d[j];
   }
-  std::uniform_int_distribution<std::uint32_t> pos(0, n_grid - 1);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) cov[i][j] = m[i][j] / static_cast<double>(np);
+}
+
+using SumsFn = void (*)(const std::uint32_t*, std::uint32_t, std::uint32_t, const double*, const double*,
+                        const double*, PrimitiveSums&);
+
+// Every form this CPU can run: the dispatcher, the plain form, and the AVX2 form where it runs
+std::vector<SumsFn> forms()
+{
+  std::vector<SumsFn> f = {primitiveSums, primitiveSumsPlain};
+#if defined(RC_SIMD_CLONES_ON)
+  if (__builtin_cpu_supports("avx2")) f.push_back(primitiveSumsAvx2);
+#endif
+  return f;
+}
+
+// Random primitives of grid g: ng grid points, then duplicates; each form against the reference
+int checkBitForBit(const Grid& gx, const Grid& gy, const Grid& gz, std::mt19937& rng)
+{
+  std::uniform_int_distribution<std::uint32_t> pos(0, static_cast<std::uint32_t>(gx.size()) - 1);
   int checked = 0;
   for (std::uint32_t ng = 1; ng < 400; ng += (ng < 40 ? 1 : 37))
     for (const std::uint32_t ndup : {0u, 1u, 3u, ng / 2 + 1, 2 * ng})
@@ -91,18 +128,201 @@ TEST(PrimitiveSums, BitForBitAgainstPerPointSums)
       std::uniform_int_distribution<std::uint32_t> earlier(0, ng - 1);
       for (std::uint32_t k = 0; k < ndup; ++k) sp.push_back(sp[earlier(rng)]);  // a twin of a grid point
       const auto np = static_cast<std::uint32_t>(sp.size());
-      PrimitiveSums got, want;
-      std::memset(&got, 0, sizeof got);
-      primitiveSums(sp.data(), ng, np, gx.data(), gy.data(), gz.data(), got);
+      PrimitiveSums want;
       reference(sp.data(), ng, np, gx, gy, gz, want);
-      // lane 3 (a copy of z) is not part of the result
-      EXPECT_EQ(0, std::memcmp(got.lo, want.lo, 3 * sizeof(float))) << "ng " << ng << " np " << np;
-      EXPECT_EQ(0, std::memcmp(got.hi, want.hi, 3 * sizeof(float))) << "ng " << ng << " np " << np;
-      EXPECT_EQ(0, std::memcmp(got.centroid, want.centroid, 3 * sizeof(float))) << "ng " << ng << " np " << np;
-      EXPECT_EQ(0, std::memcmp(got.m, want.m, sizeof want.m)) << "ng " << ng << " np " << np;
-      EXPECT_EQ(0, std::memcmp(got.mxy, want.mxy, sizeof want.mxy)) << "ng " << ng << " np " << np;
+      int form = 0;
+      for (const SumsFn f : forms())
+      {
+        PrimitiveSums got;
+        std::memset(&got, 0, sizeof got);
+        f(sp.data(), ng, np, gx.data(), gy.data(), gz.data(), got);
+        // lane 3 (a copy of z) is not part of the result
+        const auto where = [&] { return "form " + std::to_string(form) + " ng " + std::to_string(ng) + " np " +
+                                        std::to_string(np); };
+        EXPECT_EQ(0, std::memcmp(got.lo, want.lo, 3 * sizeof(float))) << where();
+        EXPECT_EQ(0, std::memcmp(got.hi, want.hi, 3 * sizeof(float))) << where();
+        EXPECT_EQ(0, std::memcmp(got.centroid, want.centroid, 3 * sizeof(float))) << where();
+        EXPECT_EQ(0, std::memcmp(got.m, want.m, sizeof want.m)) << where();
+        EXPECT_EQ(0, std::memcmp(got.mxy, want.mxy, sizeof want.mxy)) << where();
+        ++form;
+      }
       ++checked;
     }
-  EXPECT_GT(checked, 200);
+  return checked;
+}
+
+TEST(PrimitiveSums, BitForBitAgainstPerPointSums)
+{
+  std::mt19937 rng(7);
+  const std::uint32_t n_grid = 5000;
+  Grid gx(n_grid), gy(n_grid), gz(n_grid);
+  std::uniform_real_distribution<double> off(-80.0, 80.0), spread(-3.0, 3.0);
+  for (std::uint32_t p = 0; p < n_grid; ++p)
+  {
+    // clusters around far centres, so that the differences' and sums' roundings matter
+    const double cx = off(rng) * (p % 7 == 0 ? 1.0 : 0.01);
+    gx[p] = 40.0 + cx + spread(rng);
+    gy[p] = -25.0 + spread(rng) * 0.3;
+    gz[p] = -1.7 + spread(rng) * 0.05;
+  }
+  EXPECT_GT(checkBitForBit(gx, gy, gz, rng), 200);
+}
+
+// The box, now min / max of doubles converted once, against min / max of the floats where ties
+// and rounding decide: +0 and -0 (equal, the earlier one stays, sign and all), doubles that round
+// to the same float, and tiny and large magnitudes of either sign
+TEST(PrimitiveSums, BoxOfDoublesIsTheBoxOfFloats)
+{
+  std::mt19937 rng(11);
+  // all of them; then those a zero's sign decides the min of, then the max of
+  const std::vector<std::vector<double>> pools = {
+      {0.0, -0.0, 1e-30, -1e-30, 1e-40, -1e-40, 0.5, -0.5, 1.0, 1.0 + 1e-12, 1.0 - 1e-12, 80.0, 80.0 + 1e-7,
+       80.0 - 1e-7, -80.0, -80.0 + 1e-9, 3.4e38, -3.4e38},
+      {0.0, -0.0, 0.0, -0.0, 1e-30, 80.0},
+      {0.0, -0.0, 0.0, -0.0, -1e-30, -80.0}};
+  const std::uint32_t n_grid = 3000;
+  for (const auto& values : pools)
+  {
+    std::uniform_int_distribution<std::size_t> pick(0, values.size() - 1);
+    Grid gx(n_grid), gy(n_grid), gz(n_grid);
+    for (std::uint32_t p = 0; p < n_grid; ++p)
+    {
+      gx[p] = values[pick(rng)];
+      gy[p] = values[pick(rng)];
+      gz[p] = values[pick(rng)];
+    }
+    std::uniform_int_distribution<std::uint32_t> pos(0, n_grid - 1);
+    for (std::uint32_t ng = 1; ng < 60; ++ng)
+      for (int rep = 0; rep < 20; ++rep)
+      {
+        std::vector<std::uint32_t> sp;
+        for (std::uint32_t k = 0; k < ng; ++k) sp.push_back(pos(rng));
+        PrimitiveSums want;
+        reference(sp.data(), ng, ng, gx, gy, gz, want);
+        for (const SumsFn f : forms())
+        {
+          PrimitiveSums got;
+          f(sp.data(), ng, ng, gx.data(), gy.data(), gz.data(), got);
+          EXPECT_EQ(0, std::memcmp(got.lo, want.lo, 3 * sizeof(float))) << "ng " << ng;
+          EXPECT_EQ(0, std::memcmp(got.hi, want.hi, 3 * sizeof(float))) << "ng " << ng;
+        }
+      }
+  }
+}
+
+// The long double two-pass covariance and mean of the points
+void exact(const std::uint32_t* sp, std::uint32_t np, const Grid* g[3], long double mean[3], long double cov[3][3])
+{
+  for (int i = 0; i < 3; ++i)
+  {
+    long double s = 0;
+    for (std::uint32_t k = 0; k < np; ++k) s += static_cast<long double>((*g[i])[sp[k]]);
+    mean[i] = s / static_cast<long double>(np);
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+    {
+      long double s = 0;
+      for (std::uint32_t k = 0; k < np; ++k)
+      {
+        const long double di = static_cast<long double>((*g[i])[sp[k]]) - mean[i],
+                          dj = static_cast<long double>((*g[j])[sp[k]]) - mean[j];
+        s += di * dj;
+      }
+      cov[i][j] = s / static_cast<long double>(np);
+    }
+}
+
+// Each entry's error on the scale of its row and column, sqrt(C_ii C_jj): a plane's thin
+// direction counts as much as its wide ones
+long double covError(const double c[3][3], const long double e[3][3])
+{
+  long double worst = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      worst = std::max(worst, std::fabs(static_cast<long double>(c[i][j]) - e[i][j]) / std::sqrt(e[i][i] * e[j][j]));
+  return worst;
+}
+
+TEST(PrimitiveSums, AtLeastAsAccurateAsTheFloatCentroid)
+{
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const std::uint32_t sizes[] = {1, 2, 3, 5, 8, 13, 40, 150, 600, 2000, 5000};
+  const double extents[] = {0.01, 0.03, 0.1, 0.3, 1.0, 3.0};
+  long double sum_new = 0, sum_old = 0, sum_cnew = 0, sum_cold = 0;
+  int cases = 0, better = 0;
+  for (const std::uint32_t np : sizes)
+    for (const double ext : extents)
+      for (int shape = 0; shape < 3; ++shape)  // plane, line, blob
+        for (const bool float_cloud : {false, true})
+        {
+          // about 80 m away, in a random direction, turned at random
+          const double az = 2 * M_PI * unit(rng), centre[3] = {80 * std::cos(az), 80 * std::sin(az), 4 * unit(rng) - 2};
+          const double a = 2 * M_PI * unit(rng), b = M_PI * unit(rng), ca = std::cos(a), sa = std::sin(a),
+                       cb = std::cos(b), sb = std::sin(b);
+          const double rot[3][3] = {{ca, -sa * cb, sa * sb}, {sa, ca * cb, -ca * sb}, {0, sb, cb}};
+          const double half[3] = {ext / 2, shape == 2 ? ext / 2 : ext * (shape == 0 ? 0.3 + 0.7 * unit(rng) : 0.01) / 2,
+                                  shape == 2 ? ext / 2 : ext * 0.005 + 0.0005};
+          const std::uint32_t ng = np < 4 ? np : np - np / 4;  // a quarter duplicates
+          Grid g3[3] = {Grid(ng), Grid(ng), Grid(ng)};
+          for (std::uint32_t p = 0; p < ng; ++p)
+          {
+            double l[3];
+            for (int i = 0; i < 3; ++i) l[i] = half[i] * (2 * unit(rng) - 1);
+            for (int i = 0; i < 3; ++i)
+            {
+              const double v = centre[i] + rot[i][0] * l[0] + rot[i][1] * l[1] + rot[i][2] * l[2];
+              g3[i][p] = float_cloud ? static_cast<double>(static_cast<float>(v)) : v;
+            }
+          }
+          std::vector<std::uint32_t> sp;
+          for (std::uint32_t k = 0; k < ng; ++k) sp.push_back(k);
+          std::uniform_int_distribution<std::uint32_t> earlier(0, ng - 1);
+          while (sp.size() < np) sp.push_back(earlier(rng));
+          const Grid* g[3] = {&g3[0], &g3[1], &g3[2]};
+          long double mean[3], ecov[3][3];
+          exact(sp.data(), np, g, mean, ecov);
+          PrimitiveSums S;
+          primitiveSums(sp.data(), ng, np, g3[0].data(), g3[1].data(), g3[2].data(), S);
+          const double n = static_cast<double>(np);
+          const double cov[3][3] = {{S.m[0] / n, S.mxy[0] / n, S.m[2] / n},
+                                    {S.mxy[0] / n, S.m[1] / n, S.mxy[1] / n},
+                                    {S.m[2] / n, S.mxy[1] / n, S.m[3] / n}};
+          float old_centroid[3];
+          double old_cov[3][3];
+          oldScheme(sp.data(), np, g3[0], g3[1], g3[2], old_centroid, old_cov);
+          long double cnew = 0, cold = 0;  // the centroid's error [m]
+          for (int i = 0; i < 3; ++i)
+          {
+            cnew = std::max(cnew, std::fabs(static_cast<long double>(S.centroid[i]) - mean[i]));
+            cold = std::max(cold, std::fabs(static_cast<long double>(old_centroid[i]) - mean[i]));
+          }
+          // within 1e-12 m: where the mean is all but halfway between two floats, the exact
+          // rounding and an error of the old one may pick either
+          EXPECT_LE(cnew, cold + 1e-12L) << "np " << np << " extent " << ext << " shape " << shape;
+          sum_cnew += cnew;
+          sum_cold += cold;
+          if (ng == 1)  // one distinct point: no spread, which the one pass gives exactly
+          {
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) EXPECT_EQ(0.0, cov[i][j]) << "np " << np;
+            continue;
+          }
+          const long double enew = covError(cov, ecov), eold = covError(old_cov, ecov);
+          // the slack: a few roundings of a double on each entry's scale
+          EXPECT_LE(enew, eold + 16 * DBL_EPSILON) << "np " << np << " extent " << ext << " shape " << shape;
+          sum_new += enew;
+          sum_old += eold;
+          better += enew < eold;
+          ++cases;
+        }
+  std::printf("covariance error, summed over %d primitives: one pass %.3Lg, float centroid %.3Lg (%d better)\n",
+              cases, sum_new, sum_old, better);
+  std::printf("centroid error [m], summed: one pass %.3Lg, float centroid %.3Lg\n", sum_cnew, sum_cold);
+  EXPECT_GT(cases, 300);
+  EXPECT_LT(sum_new * 100, sum_old);  // clearly better overall, not just no worse
+  EXPECT_LT(sum_cnew * 2, sum_cold);
+  EXPECT_GT(better, cases * 9 / 10);
 }
 }  // namespace
