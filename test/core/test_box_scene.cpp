@@ -9,6 +9,7 @@
 #include <cstring>
 #include <numeric>
 
+#include "../../src/core/covariance_axis.hpp"
 #include "../support/ray_scene.hpp"
 #include "ring_curvature/pipeline.hpp"
 
@@ -246,7 +247,8 @@ TEST(BoxScene, OneCentimetreNoise) { runBoxScene(0.01, {0.65, 0.9, 0.7, 0.98}); 
 // Each primitive's box, centroid, eigenvalues, axis and RMS error are, bit for bit, those of the
 // plain per-point accumulation over its indices in order (the float box of its points; in
 // double about its first point r, the sums of d = p - r, d d and the cross products, the centroid
-// r + sum(d) / n, the moments about it sum(d d^T) - sum(d) sum(d)^T / n; Eigen's direct solver),
+// r + sum(d) / n, the moments about it sum(d d^T) - sum(d) sum(d)^T / n; the primitives' 3x3
+// solver covarianceAxis, which test_covariance_axis holds to a long-double reference),
 // whichever code path the extractor takes (AVX2 or not). With every firing twice (dual return),
 // half of each primitive's points are duplicates after its grid points. Noise gives every
 // coordinate its own low bits.
@@ -300,10 +302,9 @@ TEST(BoxScene, PrimitiveSummariesArePerPointSums)
       cov(1, 2) = cov(2, 1) = yz - s.y() * mean.z();
       cov(2, 0) = cov(0, 2) = zx - s.z() * mean.x();
       cov /= n;
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-      es.computeDirect(cov);
-      const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);
-      Eigen::Vector3d axis = es.eigenvectors().col(pr.label == Label::Plane ? 0 : 2);
+      Eigen::Vector3d eigenvalues, axis;
+      ring_curvature::covarianceAxis(cov, pr.label == Label::Plane ? 0 : 2, eigenvalues, axis);
+      const Eigen::Vector3d ev = eigenvalues.cwiseMax(0.0);
       if (pr.label == Label::Plane && axis.dot(centroid.cast<double>()) > 0) axis = -axis;
       const double rms2 = pr.label == Label::Plane ? ev(0) : ev(0) + ev(1);
       // bitwise: memcmp, where == would take -0 for +0
