@@ -19,26 +19,6 @@ constexpr double kEps = 2.220446049250313e-16;  // (Eigen's NumTraits<double>::e
 // covariance of two points) the pair stays equal, as computeDirect has it.
 constexpr double kClosePair = 1.0 / 4096;
 
-// The largest root t of t^3 - 3 t = 2 c for c in [0, 1], i.e. 2 cos(acos(c) / 3), in [sqrt 3, 2]:
-// a degree-8 Chebyshev interpolant in c (error <= 3.7e-9; the root is a smooth function of c on
-// [0, 1], the nearest singularity is the double root at c = -1), in Estrin's form for a short
-// dependency chain, then one Newton step on the cubic (|f'| = 3 t^2 - 3 >= 6 there, so the step
-// squares the error to below the rounding of t itself: 1.8e-16 measured on a dense grid of c; a
-// second step changed nothing). (atan2, cos and sin in computeDirect's closed form cost more.)
-inline double cubicRoot(double c)
-{
-  const double c2 = c * c, c4 = c2 * c2;
-  const double p01 = 1.7320508111991304 + 0.3333327422889974 * c;
-  const double p23 = -0.09620888290586746 + 0.049208593584660107 * c;
-  const double p45 = -0.030214550322435859 + 0.018766661141408167 * c;
-  const double p67 = -0.0098593823448516194 + 0.0035297137462267925 * c;
-  const double p8 = -0.00060570840289964067;
-  double t = (p01 + c2 * p23) + c4 * ((p45 + c2 * p67) + c4 * p8);
-  const double t2 = t * t;
-  t -= (t * (t2 - 3.0) - 2.0 * c) / (3.0 * (t2 - 1.0));
-  return t;
-}
-
 // Eigen's extract_kernel (SelfAdjointEigenSolver.h) on the symmetric m, which is singular: the
 // cross products of m's column of largest diagonal magnitude (the first of equal ones) with the
 // other two, the longer one normalised. Its choice, not the longest of all three products, so
@@ -126,7 +106,7 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
   const double b = 0.5 * (c0 + c2_3 * (2.0 * c2_3 * c2_3 - c1));
   const double rho = std::sqrt(a), arho = a * rho;
   const double c = b / arho, ac = std::abs(c);
-  const double t = cubicRoot(ac < 1.0 ? ac : 1.0);  // (rounding puts |c| a little above 1 at a double root)
+  const double t = detail::cubicRoot(ac < 1.0 ? ac : 1.0);  // (rounding puts |c| a little above 1 at a double root)
   // The other two roots of the depressed cubic, from the quadratic it leaves: y^2 + y1 y + y1^2 - 3 a,
   // y = rho (-t/2 +- h), h = sqrt(3 (4 - t^2)) / 2, where 4 - t^2 = 4 (1 - c^2) / (t^2 - 1)^2 (the
   // cubic's discriminant over the squared differences to t), so h = sqrt(3 q) / (a rho (t^2 - 1))
