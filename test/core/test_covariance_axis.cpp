@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -185,6 +186,9 @@ double logUniform(std::mt19937& rng, double lo, double hi)
 // since; its error and the error after the Newton step on a dense grid of c.
 TEST(CovarianceAxis, CubicSeedIsTheChebyshevInterpolant)
 {
+  // (valgrind computes long double as double: then there are no spare bits to check with)
+  volatile long double tiny = std::numeric_limits<long double>::epsilon();
+  if (1.0L + tiny == 1.0L) GTEST_SKIP() << "long double arithmetic has no more precision than double here";
   constexpr int N = 9;  // degree 8
   const long double pi = std::acos(-1.0L);
   const auto root = [](long double c) { return 2 * std::cos(std::acos(c) / 3); };
