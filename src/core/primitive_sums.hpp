@@ -19,19 +19,22 @@ struct PrimitiveSums
   alignas(16) double mxy[2];
 };
 
-/// The sums over the np points whose grid positions are sp[0, np), in that order: ng >= 1 grid
-/// points (which make the box), then np - ng duplicates. gx, gy, gz: the grid's coordinates.
-void primitiveSums(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx, const double* gy,
-                   const double* gz, PrimitiveSums& out);
+/// The sums over the np points of a primitive: its ng >= 1 grid points, whose grid positions are
+/// sp[0, ng), and np - ng duplicates of them. Where np > ng, grid point p stands for
+/// 1 + dup_count[p] points (itself and the duplicates whose representative it is, which add up
+/// to np - ng); where np == ng, dup_count is not read (it may be null). gx, gy, gz: the grid's
+/// coordinates.
+void primitiveSums(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const std::uint32_t* dup_count,
+                   const double* gx, const double* gy, const double* gz, PrimitiveSums& out);
 
 /// primitiveSums' baseline form (SSE2), which it runs on a CPU without AVX2.
-void primitiveSumsPlain(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx,
-                        const double* gy, const double* gz, PrimitiveSums& out);
+void primitiveSumsPlain(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const std::uint32_t* dup_count,
+                        const double* gx, const double* gy, const double* gz, PrimitiveSums& out);
 
 #if defined(RC_SIMD_CLONES_ON)
 /// primitiveSums' AVX2 form: the same bits as primitiveSumsPlain. Only with AVX2.
-void primitiveSumsAvx2(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const double* gx,
-                       const double* gy, const double* gz, PrimitiveSums& out);
+void primitiveSumsAvx2(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const std::uint32_t* dup_count,
+                       const double* gx, const double* gy, const double* gz, PrimitiveSums& out);
 #endif
 
 }  // namespace ring_curvature

@@ -119,6 +119,13 @@ SyntheticFrame makeScene(const SceneOptions& o)
       put(rec, 18, &time, 4);
       f.surface.push_back(s);
       ++n;
+      if (!o.organized && o.duplicate_every > 0 && n % static_cast<std::size_t>(o.duplicate_every) == 0)
+      {
+        f.data.resize(f.data.size() + step);
+        std::memcpy(f.data.data() + n * step, f.data.data() + (n - 1) * step, step);
+        f.surface.push_back(s);
+        ++n;
+      }
     }
   }
 

@@ -27,6 +27,7 @@ struct SceneOptions
   float range_noise = 0.005f;  ///< [m] 1-sigma Gaussian range noise (fixed seed)
   float box_shift = 0.0f;      ///< [m] moves the boxes along x (different frames, same layout)
   unsigned seed = 1;
+  int duplicate_every = 0;     ///< unorganized: every n-th point twice, as a dual return's identical second (0: none)
 };
 
 /// One frame in velodyne's packed XYZIRT layout (x, y, z, intensity f32; ring u16; time f32;

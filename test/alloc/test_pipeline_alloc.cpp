@@ -35,6 +35,12 @@ std::vector<SyntheticFrame> makeFrames()
   c.organized = true;
   c.seed = 3;
   frames.push_back(makeScene(c));
+  SceneOptions d = a;  // dual return: every point twice (the primitives' duplicate counts)
+  d.duplicate_every = 1;
+  frames.push_back(makeScene(d));
+  SceneOptions e = b;  // a few identical second returns
+  e.duplicate_every = 40;
+  frames.push_back(makeScene(e));
   return frames;
 }
 
@@ -73,9 +79,13 @@ TEST(PipelineAllocations, NoneAfterWarmUp)
     }
     ASSERT_TRUE(st.ok) << st.message;
     ASSERT_GT(result.label_counts[static_cast<int>(rc::Label::Plane)], 0u) << "scene not processed";
+    if (i >= 3)  // the frames with duplicates have them
+    {
+      EXPECT_GT(pipeline.grid().duplicates.size() * (i == 3 ? 3 : 60), f.view.size()) << "frame " << i;
+    }
   }
-  // Large, small, organized, small, large, large: sizes go down as well as up.
-  const int order[] = {0, 1, 2, 1, 0, 0, 2, 2, 1};
+  // Large, small, organized, small, large, large, dual, few duplicates: sizes go down as well as up.
+  const int order[] = {0, 1, 2, 1, 0, 0, 2, 2, 1, 3, 4, 3, 0, 4, 1, 3, 2, 4};
   for (int pass = 0; pass < 2; ++pass)
   {
     for (const int i : order)

@@ -1,14 +1,17 @@
 // The primitives' box, centroid and moment sums (primitiveSums: primitiveSumsAvx2 where the CPU
 // has AVX2, primitiveSumsPlain otherwise; both are checked) against their definition, bit for
-// bit: the box from std::min / std::max of the points' floats (as it was before the sums became
-// one pass), and about the first point r the double sums of d = p - r, of d d and of d rot(d),
-// point by point in index order, from which the centroid is r + sum(d) / n and the moments
-// sum(d d^T) - sum(d) sum(d)^T / n. Primitives of many sizes (one point up to a few hundred, not
-// multiples of any vector width) with duplicates (later copies of earlier grid points, summed
-// but not boxed), coordinates far from the origin so that every rounding shows in the last bits,
-// and signed zeros and tiny coordinates for the box. Then the accuracy: against a long double
-// two-pass reference, the one-pass covariance and centroid are at least as close as those of the
-// old scheme (a float centroid, the moments about it), primitive by primitive and overall.
+// bit: the box from std::min / std::max of the grid points' floats (as it was before the sums
+// became one pass), and about the first point r the double sums over the grid points, in index
+// order, of w d, (w d) d and (w d) rot(d), d = p - r, w = 1 + the duplicates of the point (so
+// w = 1, the plain terms, in a primitive without duplicates), from which the centroid is
+// r + sum(w d) / n and the moments sum(w d d^T) - sum(w d) sum(w d)^T / n, n the points with the
+// duplicates. Primitives of many sizes (one point up to a few hundred, not multiples of any
+// vector width) with no duplicates (the unweighted loop), a few (most weights 1) and many,
+// weights up to 2^32, coordinates far from the origin so that every rounding shows in the last
+// bits, and signed zeros and tiny coordinates for the box. Then the accuracy:
+// against a long double two-pass reference over every point, duplicates included, the
+// covariance and centroid are at least as close as those of the old scheme (a float centroid,
+// the moments about it, per point), primitive by primitive and overall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -28,9 +32,10 @@ namespace
 {
 using Grid = std::vector<double>;
 
-// The definition, one point and one coordinate at a time
-void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const Grid& gx, const Grid& gy,
-               const Grid& gz, PrimitiveSums& out)
+// The definition, one grid point and one coordinate at a time: grid point k (sp[k], k < ng)
+// stands for 1 + dups[k] points; n = np
+void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, const std::vector<std::uint64_t>& dups,
+               const Grid& gx, const Grid& gy, const Grid& gz, PrimitiveSums& out)
 {
   const Grid* g[3] = {&gx, &gy, &gz};
   float lo[3], hi[3];
@@ -41,26 +46,25 @@ void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, cons
     r[i] = (*g[i])[sp[0]];
     lo[i] = hi[i] = static_cast<float>(r[i]);  // the first point starts the box
   }
-  for (std::uint32_t k = 0; k < np; ++k)
+  for (std::uint32_t k = 0; k < ng; ++k)
   {
-    double d[3];
+    const double w = 1.0 + static_cast<double>(dups[k]);
+    double d[3], wd[3];
     for (int i = 0; i < 3; ++i)
     {
       const double p = (*g[i])[sp[k]];
-      if (k < ng)
-      {
-        lo[i] = std::min(lo[i], static_cast<float>(p));
-        hi[i] = std::max(hi[i], static_cast<float>(p));
-      }
+      lo[i] = std::min(lo[i], static_cast<float>(p));
+      hi[i] = std::max(hi[i], static_cast<float>(p));
       d[i] = p - r[i];
-      s[i] = s[i] + d[i];
+      wd[i] = w * d[i];
+      s[i] = s[i] + wd[i];
     }
-    xx = xx + d[0] * d[0];
-    yy = yy + d[1] * d[1];
-    zz = zz + d[2] * d[2];
-    xy = xy + d[0] * d[1];
-    yz = yz + d[1] * d[2];
-    zx = zx + d[2] * d[0];
+    xx = xx + wd[0] * d[0];
+    yy = yy + wd[1] * d[1];
+    zz = zz + wd[2] * d[2];
+    xy = xy + wd[0] * d[1];
+    yz = yz + wd[1] * d[2];
+    zx = zx + wd[2] * d[0];
   }
   const double n = static_cast<double>(np);
   const double mean[3] = {s[0] / n, s[1] / n, s[2] / n};
@@ -77,6 +81,15 @@ void reference(const std::uint32_t* sp, std::uint32_t ng, std::uint32_t np, cons
   out.m[3] = zz - s[2] * mean[2];
   out.mxy[0] = xy - s[0] * mean[1];
   out.mxy[1] = yz - s[1] * mean[2];
+}
+
+// Each grid point's duplicates, counted by scanning the duplicates' positions sp[ng, np)
+std::vector<std::uint64_t> duplicatesOf(const std::vector<std::uint32_t>& sp, std::uint32_t ng)
+{
+  std::vector<std::uint64_t> dups(ng, 0);
+  for (std::size_t j = ng; j < sp.size(); ++j)
+    for (std::uint32_t k = 0; k < ng; ++k) dups[k] += sp[j] == sp[k] ? 1 : 0;
+  return dups;
 }
 
 // The scheme before the one pass, as a comparison: the centroid a float sum of the points'
@@ -102,8 +115,8 @@ void oldScheme(const std::uint32_t* sp, std::uint32_t np, const Grid& gx, const 
     for (int j = 0; j < 3; ++j) cov[i][j] = m[i][j] / static_cast<double>(np);
 }
 
-using SumsFn = void (*)(const std::uint32_t*, std::uint32_t, std::uint32_t, const double*, const double*,
-                        const double*, PrimitiveSums&);
+using SumsFn = void (*)(const std::uint32_t*, std::uint32_t, std::uint32_t, const std::uint32_t*, const double*,
+                        const double*, const double*, PrimitiveSums&);
 
 // Every form this CPU can run: the dispatcher, the plain form, and the AVX2 form where it runs
 std::vector<SumsFn> forms()
@@ -115,39 +128,53 @@ std::vector<SumsFn> forms()
   return f;
 }
 
-// Random primitives of grid g: ng grid points, then duplicates; each form against the reference
+bool sameSums(const PrimitiveSums& got, const PrimitiveSums& want)
+{
+  // lane 3 (a copy of z) is not part of the result
+  return std::memcmp(got.lo, want.lo, 3 * sizeof(float)) == 0 && std::memcmp(got.hi, want.hi, 3 * sizeof(float)) == 0 &&
+         std::memcmp(got.centroid, want.centroid, 3 * sizeof(float)) == 0 &&
+         std::memcmp(got.m, want.m, sizeof want.m) == 0 && std::memcmp(got.mxy, want.mxy, sizeof want.mxy) == 0;
+}
+
+// Random primitives of grid g: ng distinct grid points, then duplicates (each a twin of one of
+// them, some of several); the counts per grid position as extract makes them, every other
+// position holding garbage (other primitives' counts, never read). Each form against the
+// reference.
 int checkBitForBit(const Grid& gx, const Grid& gy, const Grid& gz, std::mt19937& rng)
 {
-  std::uniform_int_distribution<std::uint32_t> pos(0, static_cast<std::uint32_t>(gx.size()) - 1);
-  int checked = 0;
+  const auto n_grid = static_cast<std::uint32_t>(gx.size());
+  std::vector<std::uint32_t> all(n_grid), count(n_grid);
+  std::iota(all.begin(), all.end(), 0u);
+  std::uniform_int_distribution<std::uint32_t> garbage(0, 1000);
+  int checked = 0, few = 0, many = 0;
   for (std::uint32_t ng = 1; ng < 400; ng += (ng < 40 ? 1 : 37))
-    for (const std::uint32_t ndup : {0u, 1u, 3u, ng / 2 + 1, 2 * ng})
+    for (const std::uint32_t ndup : {0u, 1u, 3u, ng / 4, (ng + 3) / 4, ng / 2 + 1, 2 * ng})
     {
-      std::vector<std::uint32_t> sp;
-      for (std::uint32_t k = 0; k < ng; ++k) sp.push_back(pos(rng));
+      std::shuffle(all.begin(), all.end(), rng);
+      std::vector<std::uint32_t> sp(all.begin(), all.begin() + ng);
       std::uniform_int_distribution<std::uint32_t> earlier(0, ng - 1);
       for (std::uint32_t k = 0; k < ndup; ++k) sp.push_back(sp[earlier(rng)]);  // a twin of a grid point
       const auto np = static_cast<std::uint32_t>(sp.size());
+      for (std::uint32_t& c : count) c = garbage(rng);
+      for (std::uint32_t k = 0; k < ng; ++k) count[sp[k]] = 0;
+      for (std::uint32_t k = ng; k < np; ++k) ++count[sp[k]];
       PrimitiveSums want;
-      reference(sp.data(), ng, np, gx, gy, gz, want);
+      reference(sp.data(), ng, np, duplicatesOf(sp, ng), gx, gy, gz, want);
       int form = 0;
       for (const SumsFn f : forms())
       {
         PrimitiveSums got;
         std::memset(&got, 0, sizeof got);
-        f(sp.data(), ng, np, gx.data(), gy.data(), gz.data(), got);
-        // lane 3 (a copy of z) is not part of the result
-        const auto where = [&] { return "form " + std::to_string(form) + " ng " + std::to_string(ng) + " np " +
-                                        std::to_string(np); };
-        EXPECT_EQ(0, std::memcmp(got.lo, want.lo, 3 * sizeof(float))) << where();
-        EXPECT_EQ(0, std::memcmp(got.hi, want.hi, 3 * sizeof(float))) << where();
-        EXPECT_EQ(0, std::memcmp(got.centroid, want.centroid, 3 * sizeof(float))) << where();
-        EXPECT_EQ(0, std::memcmp(got.m, want.m, sizeof want.m)) << where();
-        EXPECT_EQ(0, std::memcmp(got.mxy, want.mxy, sizeof want.mxy)) << where();
+        f(sp.data(), ng, np, count.data(), gx.data(), gy.data(), gz.data(), got);
+        EXPECT_TRUE(sameSums(got, want)) << "form " << form << " ng " << ng << " np " << np;
         ++form;
       }
       ++checked;
+      few += ndup > 0 && ndup * 4 < ng;
+      many += ndup > 0 && ndup * 4 >= ng;
     }
+  EXPECT_GT(few, 30);
+  EXPECT_GT(many, 30);
   return checked;
 }
 
@@ -166,6 +193,64 @@ TEST(PrimitiveSums, BitForBitAgainstPerPointSums)
     gz[p] = -1.7 + spread(rng) * 0.05;
   }
   EXPECT_GT(checkBitForBit(gx, gy, gz, rng), 200);
+}
+
+// Weights far beyond a few: counts up to 2^32 - 100 (np still a uint32), which the AVX2 form
+// converts to double by the bits of 2^52 + c; and a primitive with few duplicates, all of one
+// grid point
+TEST(PrimitiveSums, LargeWeights)
+{
+  std::mt19937 rng(5);
+  const std::uint32_t n_grid = 200;
+  Grid gx(n_grid), gy(n_grid), gz(n_grid);
+  std::uniform_real_distribution<double> spread(-2.0, 2.0);
+  for (std::uint32_t p = 0; p < n_grid; ++p)
+  {
+    gx[p] = 30.0 + spread(rng);
+    gy[p] = 60.0 + spread(rng);
+    gz[p] = -1.0 + spread(rng) * 0.1;
+  }
+  const std::vector<std::vector<std::uint32_t>> cases = {
+      {0, 4294967196u, 3, 0, 50, 20},
+      {0, 2147483648u, 1u << 20, (1u << 20) + 1, 16777217u, 9007199u},
+      {7, 0, 1, 2, 3, 4, 5, 6, 8, 9, 10, 11, 12, 13, 255, 256, 65535, 65536}};
+  for (const auto& counts : cases)
+  {
+    const auto ng = static_cast<std::uint32_t>(counts.size());
+    std::vector<std::uint32_t> sp(ng), count(n_grid, 0);
+    std::vector<std::uint64_t> dups(ng);
+    std::uint64_t np = ng;
+    for (std::uint32_t k = 0; k < ng; ++k)
+    {
+      sp[k] = 3 * k + 1;
+      count[sp[k]] = counts[k];
+      dups[k] = counts[k];
+      np += counts[k];
+    }
+    ASSERT_LT(np, std::uint64_t{1} << 32);
+    PrimitiveSums want;
+    reference(sp.data(), ng, static_cast<std::uint32_t>(np), dups, gx, gy, gz, want);
+    for (const SumsFn f : forms())
+    {
+      PrimitiveSums got;
+      f(sp.data(), ng, static_cast<std::uint32_t>(np), count.data(), gx.data(), gy.data(), gz.data(), got);
+      EXPECT_TRUE(sameSums(got, want)) << "ng " << ng << " np " << np;
+    }
+  }
+  // few: 24 duplicates of one of 100 grid points (24 * 4 < 100)
+  std::vector<std::uint32_t> sp(100), count(n_grid, 0);
+  std::vector<std::uint64_t> dups(100, 0);
+  for (std::uint32_t k = 0; k < 100; ++k) sp[k] = 2 * k;
+  count[sp[57]] = 24;
+  dups[57] = 24;
+  PrimitiveSums want;
+  reference(sp.data(), 100, 124, dups, gx, gy, gz, want);
+  for (const SumsFn f : forms())
+  {
+    PrimitiveSums got;
+    f(sp.data(), 100, 124, count.data(), gx.data(), gy.data(), gz.data(), got);
+    EXPECT_TRUE(sameSums(got, want));
+  }
 }
 
 // The box, now min / max of doubles converted once, against min / max of the floats where ties
@@ -198,11 +283,11 @@ TEST(PrimitiveSums, BoxOfDoublesIsTheBoxOfFloats)
         std::vector<std::uint32_t> sp;
         for (std::uint32_t k = 0; k < ng; ++k) sp.push_back(pos(rng));
         PrimitiveSums want;
-        reference(sp.data(), ng, ng, gx, gy, gz, want);
+        reference(sp.data(), ng, ng, std::vector<std::uint64_t>(ng, 0), gx, gy, gz, want);
         for (const SumsFn f : forms())
         {
           PrimitiveSums got;
-          f(sp.data(), ng, ng, gx.data(), gy.data(), gz.data(), got);
+          f(sp.data(), ng, ng, nullptr, gx.data(), gy.data(), gz.data(), got);  // no duplicates: no counts read
           EXPECT_EQ(0, std::memcmp(got.lo, want.lo, 3 * sizeof(float))) << "ng " << ng;
           EXPECT_EQ(0, std::memcmp(got.hi, want.hi, 3 * sizeof(float))) << "ng " << ng;
         }
@@ -283,8 +368,10 @@ TEST(PrimitiveSums, AtLeastAsAccurateAsTheFloatCentroid)
           const Grid* g[3] = {&g3[0], &g3[1], &g3[2]};
           long double mean[3], ecov[3][3];
           exact(sp.data(), np, g, mean, ecov);
+          std::vector<std::uint32_t> count(ng, 0);
+          for (std::uint32_t k = ng; k < np; ++k) ++count[sp[k]];
           PrimitiveSums S;
-          primitiveSums(sp.data(), ng, np, g3[0].data(), g3[1].data(), g3[2].data(), S);
+          primitiveSums(sp.data(), ng, np, count.data(), g3[0].data(), g3[1].data(), g3[2].data(), S);
           const double n = static_cast<double>(np);
           const double cov[3][3] = {{S.m[0] / n, S.mxy[0] / n, S.m[2] / n},
                                     {S.mxy[0] / n, S.m[1] / n, S.mxy[1] / n},
