@@ -5,6 +5,9 @@ export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # RC_WS lets several builds coexist (e.g. a sanitizer build); default is the documented one.
 WS="${RC_WS:-$REPO_ROOT/.catkin_ws}"
+# The shared real frames (not shipped: a user's clone has none), beside the repository unless
+# RC_SHARED names them (a worktree or clone elsewhere, which otherwise compared the fixtures only).
+SHARED_REAL="${RC_SHARED:-$REPO_ROOT/../shared}/data/real"
 export ROS_HOME="${ROS_HOME:-$WS/ros_home}"
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$ROS_HOME/log}"
 export PYTHONDONTWRITEBYTECODE=1

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Runs the benchmark over the shipped fixtures and the shared real frames (skipping, with a note,
-# any that are absent: a user's clone has no ../shared), printing each run's full table.
+# any that are absent: a user's clone has no ../shared; RC_SHARED names another place), printing each run's full table.
 # The figures in docs/benchmark.md come from this script:
 #   src/tools/benchmark_all.sh [REPEAT]      (after scripts/build; uses $RC_WS or .catkin_ws)
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
 rc_source_ws
 repeat=${1:-20}
-real="$REPO_ROOT/../shared/data/real"
+real="$SHARED_REAL"
 bags=(
   "$REPO_ROOT/rosbag_fixtures/rustlidar_velodyne_vlp16_vlp16_1scan.bag"
   "$REPO_ROOT/rosbag_fixtures/nebula_vlp16_lastreturn_4scans.bag"

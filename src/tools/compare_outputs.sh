@@ -9,6 +9,7 @@
 #   AFTER_WRAPPER: a command the after side's process_bag runs under (e.g. "valgrind --tool=none -q",
 #   which reports a CPU without AVX-512, so that the AVX2 clones run on an AVX-512 host).
 #   COMPARE_BAGS: a space-separated list of bags instead of the default set.
+#   RC_SHARED: where the shared real frames are (default: ../shared beside the repository).
 # Exit status: 0 when every output is identical, 1 otherwise.
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
@@ -22,7 +23,7 @@ else
   trap 'rm -rf "$work"' EXIT
 fi
 mkdir -p "$work"
-real="$REPO_ROOT/../shared/data/real"
+real="$SHARED_REAL"
 bags=("$REPO_ROOT"/rosbag_fixtures/*.bag
   "$real/nebula_vlp16_dual_4scans.bag" "$real/rustlidar_hdl32e_scans.bag"
   "$real/kitti_hdl64_patchworkpp_6frames.bag"
