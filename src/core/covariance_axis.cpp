@@ -135,11 +135,20 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
     axis(which) = 1.0;  // three equal eigenvalues: computeDirect's identity
     return;
   }
-  double mk[3][3];  // m shifted by the eigenvalue apart, and its vector (where found)
+  // m shifted by the eigenvalue apart, its kernel vk and representative column rep: found once,
+  // where first needed (a close pair, or the vector asked for is that eigenvalue's or in the pair)
+  double mk[3][3];
   Eigen::Vector3d vk;
   int rep = -1;
   const double lk = top ? l2 : l0;
-  if (h > 0 && h < kClosePair)
+  const auto kernelApart = [&] {
+    if (rep >= 0) return;
+    shifted(m, lk, mk);
+    rep = extractKernel(mk, vk);
+  };
+  const auto representative = [&] { return Eigen::Vector3d(mk[rep][0], mk[rep][1], mk[rep][2]).normalized(); };
+  const bool close_pair = h > 0 && h < kClosePair;
+  if (close_pair)
   {
     // A close pair: its gap from q, a small difference of two cubes, is only good to about
     // sqrt(eps) where it is that small (computeDirect's closed form has the same error). The
@@ -147,8 +156,7 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
     // Q = m - mu I - (lk - mu) vk vk^T about the pair's mean mu: Q vk = (m - lk I) vk = 0, and
     // its two other eigenvalues are +- g / 2 (mu is good to about eps), so its squared Frobenius
     // norm is g^2 / 2: a sum without cancellation, the gap to about eps.
-    shifted(m, lk, mk);
-    rep = extractKernel(mk, vk);
+    kernelApart();
     const double mu = top ? c2_3 - rho * half : c2_3 + rho * half, sk = lk - mu;
     const double q00 = m[0][0] - mu - sk * vk(0) * vk(0), q11 = m[1][1] - mu - sk * vk(1) * vk(1);
     const double q22 = m[2][2] - mu - sk * vk(2) * vk(2), q01 = m[0][1] - sk * vk(0) * vk(1);
@@ -168,21 +176,21 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
   // of the other eigenvalue's kernel: a vector orthogonal to that eigenvalue's vector.
   if (which == k)
   {
-    if (rep < 0) shifted(m, lk, mk), extractKernel(mk, vk);
+    kernelApart();
     axis = vk;
     return;
   }
   const double pair_gap = top ? l1 - l0 : l2 - l1, apart_gap = top ? l2 - l1 : l1 - l0;
   if (pair_gap <= 2 * kEps * apart_gap)
   {
-    if (rep < 0) shifted(m, lk, mk), rep = extractKernel(mk, vk);
-    axis = Eigen::Vector3d(mk[rep][0], mk[rep][1], mk[rep][2]).normalized();
+    kernelApart();
+    axis = representative();
     return;
   }
   double mw[3][3];
   shifted(m, which == 0 ? l0 : l2, mw);
   extractKernel(mw, axis);
-  if (rep < 0) return;
+  if (!close_pair) return;
   // In a close pair that kernel is good to about eps over the gap within the pair's plane, but
   // its part along the vector apart may be as large (all three products are small there): made
   // orthogonal to it (Gram-Schmidt), it lies in the plane; where little of it was in the plane
@@ -191,7 +199,7 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
   if (in_plane.squaredNorm() >= 0.25)
     axis = in_plane.normalized();
   else
-    axis = Eigen::Vector3d(mk[rep][0], mk[rep][1], mk[rep][2]).normalized();
+    axis = representative();
 }
 
 }  // namespace ring_curvature
