@@ -136,6 +136,26 @@ bool sameSums(const PrimitiveSums& got, const PrimitiveSums& want)
          std::memcmp(got.m, want.m, sizeof want.m) == 0 && std::memcmp(got.mxy, want.mxy, sizeof want.mxy) == 0;
 }
 
+// Each form this CPU runs against the reference on one primitive (sp: its ng grid points, then
+// its duplicates; count: the duplicates per grid position, as the forms read them; dups: as the
+// reference reads them)
+void expectFormsMatch(const std::vector<std::uint32_t>& sp, std::uint32_t ng, std::uint32_t np,
+                      const std::vector<std::uint64_t>& dups, const std::vector<std::uint32_t>& count, const Grid& gx,
+                      const Grid& gy, const Grid& gz)
+{
+  PrimitiveSums want;
+  reference(sp.data(), ng, np, dups, gx, gy, gz, want);
+  int form = 0;
+  for (const SumsFn f : forms())
+  {
+    PrimitiveSums got;
+    std::memset(&got, 0, sizeof got);
+    f(sp.data(), ng, np, count.data(), gx.data(), gy.data(), gz.data(), got);
+    EXPECT_TRUE(sameSums(got, want)) << "form " << form << " ng " << ng << " np " << np;
+    ++form;
+  }
+}
+
 // Random primitives of grid g: ng distinct grid points, then duplicates (each a twin of one of
 // them, some of several); the counts per grid position as extract makes them, every other
 // position holding garbage (other primitives' counts, never read). Each form against the
@@ -158,17 +178,7 @@ int checkBitForBit(const Grid& gx, const Grid& gy, const Grid& gz, std::mt19937&
       for (std::uint32_t& c : count) c = garbage(rng);
       for (std::uint32_t k = 0; k < ng; ++k) count[sp[k]] = 0;
       for (std::uint32_t k = ng; k < np; ++k) ++count[sp[k]];
-      PrimitiveSums want;
-      reference(sp.data(), ng, np, duplicatesOf(sp, ng), gx, gy, gz, want);
-      int form = 0;
-      for (const SumsFn f : forms())
-      {
-        PrimitiveSums got;
-        std::memset(&got, 0, sizeof got);
-        f(sp.data(), ng, np, count.data(), gx.data(), gy.data(), gz.data(), got);
-        EXPECT_TRUE(sameSums(got, want)) << "form " << form << " ng " << ng << " np " << np;
-        ++form;
-      }
+      expectFormsMatch(sp, ng, np, duplicatesOf(sp, ng), count, gx, gy, gz);
       ++checked;
       few += ndup > 0 && ndup * 4 < ng;
       many += ndup > 0 && ndup * 4 >= ng;
@@ -228,14 +238,7 @@ TEST(PrimitiveSums, LargeWeights)
       np += counts[k];
     }
     ASSERT_LT(np, std::uint64_t{1} << 32);
-    PrimitiveSums want;
-    reference(sp.data(), ng, static_cast<std::uint32_t>(np), dups, gx, gy, gz, want);
-    for (const SumsFn f : forms())
-    {
-      PrimitiveSums got;
-      f(sp.data(), ng, static_cast<std::uint32_t>(np), count.data(), gx.data(), gy.data(), gz.data(), got);
-      EXPECT_TRUE(sameSums(got, want)) << "ng " << ng << " np " << np;
-    }
+    expectFormsMatch(sp, ng, static_cast<std::uint32_t>(np), dups, count, gx, gy, gz);
   }
   // few: 24 duplicates of one of 100 grid points (24 * 4 < 100)
   std::vector<std::uint32_t> sp(100), count(n_grid, 0);
@@ -243,14 +246,7 @@ TEST(PrimitiveSums, LargeWeights)
   for (std::uint32_t k = 0; k < 100; ++k) sp[k] = 2 * k;
   count[sp[57]] = 24;
   dups[57] = 24;
-  PrimitiveSums want;
-  reference(sp.data(), 100, 124, dups, gx, gy, gz, want);
-  for (const SumsFn f : forms())
-  {
-    PrimitiveSums got;
-    f(sp.data(), 100, 124, count.data(), gx.data(), gy.data(), gz.data(), got);
-    EXPECT_TRUE(sameSums(got, want));
-  }
+  expectFormsMatch(sp, 100, 124, dups, count, gx, gy, gz);
 }
 
 // The box, now min / max of doubles converted once, against min / max of the floats where ties
