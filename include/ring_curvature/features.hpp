@@ -40,7 +40,7 @@ private:
   std::vector<float> jump_;           // discontinuity of each link (k - 1, k), and the seam's again
   std::vector<double> prefix_;        // prefix sums for windowed statistics
   std::vector<int> half_;             // chord mode: samples per half chord
-  std::vector<float> chord_;          // chord mode: chord products per sample
+  std::vector<float> chord_;          // chord mode: chord products per sample, and the chords' ends
   std::vector<double> turn_len_;      // other modes: turning angle and arc length per sample
 };
 

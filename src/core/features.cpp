@@ -9,6 +9,10 @@
 #include "simd_clones.hpp"
 #include "smoothness.hpp"
 
+#if defined(RC_SIMD_CLONES_ON)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -59,27 +63,38 @@ inline void smallSinCos(T a, T& s, T& c)
 // rho_kp cos(a), loses ~1 ulp of the range (1e-6 m at 10 m) against a chord of >= 0.25 m, and
 // the angle already goes through fastAtan2 in float (~1e-5 rad); the products cross / dot of
 // chords of ~0.25 m keep float's relative precision (no sums of large terms here).
+// One sample's chords from its own azimuth and range and its two chord ends' (p: incoming, n:
+// outgoing); returns 1 when an angle exceeded the polynomial's range. Shared by the kernel that
+// reads the ends through their indices and the one that reads them gathered (chordEndsAvx512),
+// so that both form the same operations.
+template <class SinCos>
+inline int chordSample(float c, float az_k, float rho_k, float az_p, float rho_p, float az_n, float rho_n,
+                       SinCos sinCos, float& cross, float& dot, float& v2, float& u2)
+{
+  constexpr float small = static_cast<float>(kSmallAngle);
+  const float ap = c * wrapPi(az_p - az_k), an = c * wrapPi(az_n - az_k);
+  const int large = (std::fabs(ap) > small ? 1 : 0) | (std::fabs(an) > small ? 1 : 0);
+  float sp, cp, sn, cn;
+  sinCos(ap, sp, cp);
+  sinCos(an, sn, cn);
+  const float vx = rho_k - rho_p * cp, vy = -(rho_p * sp);  // incoming chord
+  const float ux = rho_n * cn - rho_k, uy = rho_n * sn;     // outgoing chord
+  cross = vx * uy - vy * ux;
+  dot = vx * ux + vy * uy;
+  v2 = vx * vx + vy * vy;
+  u2 = ux * ux + uy * uy;
+  return large;
+}
 template <class SinCos>
 inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
                         const float* __restrict rho, float* __restrict cross, float* __restrict dot,
                         float* __restrict v2, float* __restrict u2, SinCos sinCos)
 {
   int large = 0;  // an int and `|`: no short-circuit branch in the loop
-  constexpr float small = static_cast<float>(kSmallAngle);
   for (int k = 0; k < K; ++k)
   {
     const int kp = k - std::min(H[k], L[k]), kn = k + std::min(H[k], R[k]);
-    const float ap = c * wrapPi(az[kp] - az[k]), an = c * wrapPi(az[kn] - az[k]);
-    large |= (std::fabs(ap) > small ? 1 : 0) | (std::fabs(an) > small ? 1 : 0);
-    float sp, cp, sn, cn;
-    sinCos(ap, sp, cp);
-    sinCos(an, sn, cn);
-    const float vx = rho[k] - rho[kp] * cp, vy = -(rho[kp] * sp);  // incoming chord
-    const float ux = rho[kn] * cn - rho[k], uy = rho[kn] * sn;     // outgoing chord
-    cross[k] = vx * uy - vy * ux;
-    dot[k] = vx * ux + vy * uy;
-    v2[k] = vx * vx + vy * vy;
-    u2[k] = ux * ux + uy * uy;
+    large |= chordSample(c, az[k], rho[k], az[kp], rho[kp], az[kn], rho[kn], sinCos, cross[k], dot[k], v2[k], u2[k]);
   }
   return large != 0;
 }
@@ -90,6 +105,60 @@ RC_SIMD_CLONES_WIDE bool chordProducts(int K, float c, const int* H, const int* 
 {
   return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos<float>);
 }
+#if defined(RC_SIMD_CLONES_ON)
+RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
+// The chord ends' azimuths and ranges of samples [0, K16) (K16 a multiple of 16), gathered into
+// ap, rp (k - min(H, L)) and an, rn (k + min(H, R)) with every reach at most 16 samples: then
+// the ends of sixteen samples from k0 lie in [k0 - 16, k0 + 32), three vectors of the padded
+// arrays, and each gather is one two-source permute of two of them. The compiler's vector form
+// of the same reads (chordProducts' clones) builds each gathered lane from a scalar load and an
+// insert (no gather instruction: objdump), 64 a group of sixteen. `az` and `rho` must be
+// readable on [-16, K16 + 32).
+__attribute__((target("avx512f"))) void chordEndsAvx512(int K16, const int* __restrict H, const int* __restrict L,
+                                                        const int* __restrict R, const float* __restrict az,
+                                                        const float* __restrict rho, float* __restrict ap,
+                                                        float* __restrict rp, float* __restrict an,
+                                                        float* __restrict rn)
+{
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i sixteen = _mm512_set1_epi32(16);
+  for (int k0 = 0; k0 < K16; k0 += 16)
+  {
+    const __m512i h = _mm512_loadu_si512(H + k0);
+    const __m512i back = _mm512_min_epi32(h, _mm512_loadu_si512(L + k0));
+    const __m512i ahead = _mm512_min_epi32(h, _mm512_loadu_si512(R + k0));
+    // lane j's ends: k0 + j - back in [k0 - 16, k0 + 16), index 16 + j - back of (lo, mid);
+    // k0 + j + ahead in [k0, k0 + 32), index j + ahead of (mid, hi)
+    const __m512i ip = _mm512_sub_epi32(_mm512_add_epi32(iota, sixteen), back);
+    const __m512i in = _mm512_add_epi32(iota, ahead);
+    const __m512 az_lo = _mm512_loadu_ps(az + k0 - 16), az_mid = _mm512_loadu_ps(az + k0),
+                 az_hi = _mm512_loadu_ps(az + k0 + 16);
+    const __m512 r_lo = _mm512_loadu_ps(rho + k0 - 16), r_mid = _mm512_loadu_ps(rho + k0),
+                 r_hi = _mm512_loadu_ps(rho + k0 + 16);
+    _mm512_storeu_ps(ap + k0, _mm512_permutex2var_ps(az_lo, ip, az_mid));
+    _mm512_storeu_ps(rp + k0, _mm512_permutex2var_ps(r_lo, ip, r_mid));
+    _mm512_storeu_ps(an + k0, _mm512_permutex2var_ps(az_mid, in, az_hi));
+    _mm512_storeu_ps(rn + k0, _mm512_permutex2var_ps(r_mid, in, r_hi));
+  }
+}
+RC_AVX512_END
+
+// chordKernel on gathered ends (chordEndsAvx512), with the polynomial: unit-stride loads only.
+__attribute__((target("avx512f"))) bool chordProductsOfEnds(int K, float c, const float* __restrict az,
+                                                            const float* __restrict rho, const float* __restrict ap,
+                                                            const float* __restrict rp, const float* __restrict an,
+                                                            const float* __restrict rn, float* __restrict cross,
+                                                            float* __restrict dot, float* __restrict v2,
+                                                            float* __restrict u2)
+{
+  int large = 0;
+  for (int k = 0; k < K; ++k)
+    large |= chordSample(c, az[k], rho[k], ap[k], rp[k], an[k], rn[k], polySinCos<float>, cross[k], dot[k], v2[k],
+                         u2[k]);
+  return large != 0;
+}
+#endif
+
 // The same with the libm branch, for a ring where chordProducts met a large angle.
 void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
                        const float* __restrict rho, float* __restrict cross, float* __restrict dot,
@@ -279,10 +348,11 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
   // The default modes' features (Chord, Jump, Detrended with small windows) run in float, eight
   // samples a vector, on the float ranges; the other modes keep the double ranges, and so do the
   // smoothness's prefix sums (squared ranges summed over a ring).
-  growTo(az_pad_, K + 2 * static_cast<std::size_t>(cap));
-  growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap));
-  float* const azp = az_pad_.data() + cap;
-  float* const rpf = rho_pad_f_.data() + cap;
+  // (16 more before and 32 more after: the windows chordEndsAvx512 reads, values never used)
+  growTo(az_pad_, K + 2 * static_cast<std::size_t>(cap) + 48);
+  growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap) + 48);
+  float* const azp = az_pad_.data() + cap + 16;
+  float* const rpf = rho_pad_f_.data() + cap + 16;
   std::copy(g.azimuth.begin() + b, g.azimuth.begin() + b + K, azp);
   for (std::uint32_t k = 0; k < K; ++k) rpf[k] = static_cast<float>(rho[k]);
   const auto padFrom = [&](std::int64_t k) {
@@ -326,15 +396,36 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
     const float res = std::max(1e-6f, g.azimuth_resolution);
     const float cf = g.ring_cos[static_cast<std::size_t>(n)];
     growTo(half_, K);
-    growTo(chord_, 4 * static_cast<std::size_t>(K));
+    growTo(chord_, 8 * static_cast<std::size_t>(K));
     int* H = half_.data();
     float* CROSS = chord_.data();  // the chords' cross and dot products, squared lengths
     float* DOT = CROSS + K;
     float* V2 = DOT + K;
     float* U2 = V2 + K;
     chordSamples(static_cast<int>(K), rpf, cf, res, P.chord_length, P.max_chord_samples, H);
-    if (chordProducts(static_cast<int>(K), cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2))
-      chordProductsLibm(static_cast<int>(K), cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
+    const int Ki = static_cast<int>(K);
+    bool large;
+#if defined(RC_SIMD_CLONES_ON)
+    // reaches of at most 16 samples (H <= max_chord_samples): the ends by permutes (chordEndsAvx512)
+    if (P.max_chord_samples <= 16 && __builtin_cpu_supports("avx512f"))
+    {
+      float* const AP = U2 + K;  // the chord ends' azimuths and ranges
+      float* const RP = AP + K;
+      float* const AN = RP + K;
+      float* const RN = AN + K;
+      const int K16 = Ki / 16 * 16;
+      chordEndsAvx512(K16, H, L, Rr, azp, rpf, AP, RP, AN, RN);
+      large = chordProductsOfEnds(K16, cf, azp, rpf, AP, RP, AN, RN, CROSS, DOT, V2, U2);
+      const bool tail = chordProducts(Ki - K16, cf, H + K16, L + K16, Rr + K16, azp + K16, rpf + K16, CROSS + K16,
+                                      DOT + K16, V2 + K16, U2 + K16);
+      large = large || tail;
+    }
+    else
+#endif
+    {
+      large = chordProducts(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
+    }
+    if (large) chordProductsLibm(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
     // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
     // The turning angle and arc length go straight into kappa (one loop, not two through arrays).
     for (std::uint32_t k = 0; k < K; ++k)
