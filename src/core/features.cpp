@@ -143,6 +143,61 @@ __attribute__((target("avx512f"))) void chordEndsAvx512(int K16, const int* __re
 }
 RC_AVX512_END
 
+// Lanes of the window (a, b) at indices i in [0, 16): a's lane i where i < 8 (from_b clear), else
+// b's lane i - 8 (the permutes read the index's low three bits).
+__attribute__((target("avx2"))) inline __m256 pickWindow(__m256 a, __m256 b, __m256i i, __m256 from_b)
+{
+  return _mm256_blendv_ps(_mm256_permutevar8x32_ps(a, i), _mm256_permutevar8x32_ps(b, i), from_b);
+}
+
+// chordEndsAvx512 for CPUs with AVX2 alone, eight samples a step and reaches of at most 8 (the
+// default longest chord is 6): the ends of eight samples from k0 lie in [k0 - 8, k0 + 16), and
+// each gather is two one-source permutes and a blend (AVX2 has no two-source permute). `az`
+// and `rho` must be readable on [-8, K8 + 16).
+__attribute__((target("avx2"))) void chordEndsAvx2(int K8, const int* __restrict H, const int* __restrict L,
+                                                   const int* __restrict R, const float* __restrict az,
+                                                   const float* __restrict rho, float* __restrict ap,
+                                                   float* __restrict rp, float* __restrict an, float* __restrict rn)
+{
+  const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i eight = _mm256_set1_epi32(8), seven = _mm256_set1_epi32(7);
+  for (int k0 = 0; k0 < K8; k0 += 8)
+  {
+    const __m256i h = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(H + k0));
+    const __m256i back = _mm256_min_epi32(h, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(L + k0)));
+    const __m256i ahead = _mm256_min_epi32(h, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(R + k0)));
+    // lane j's ends: index 8 + j - back of (lo, mid) and j + ahead of (mid, hi)
+    const __m256i ip = _mm256_sub_epi32(_mm256_add_epi32(iota, eight), back);
+    const __m256i in = _mm256_add_epi32(iota, ahead);
+    const __m256 p_hi = _mm256_castsi256_ps(_mm256_cmpgt_epi32(ip, seven));
+    const __m256 n_hi = _mm256_castsi256_ps(_mm256_cmpgt_epi32(in, seven));
+    const __m256 az_lo = _mm256_loadu_ps(az + k0 - 8), az_mid = _mm256_loadu_ps(az + k0),
+                 az_hi = _mm256_loadu_ps(az + k0 + 8);
+    const __m256 r_lo = _mm256_loadu_ps(rho + k0 - 8), r_mid = _mm256_loadu_ps(rho + k0),
+                 r_hi = _mm256_loadu_ps(rho + k0 + 8);
+    _mm256_storeu_ps(ap + k0, pickWindow(az_lo, az_mid, ip, p_hi));
+    _mm256_storeu_ps(rp + k0, pickWindow(r_lo, r_mid, ip, p_hi));
+    _mm256_storeu_ps(an + k0, pickWindow(az_mid, az_hi, in, n_hi));
+    _mm256_storeu_ps(rn + k0, pickWindow(r_mid, r_hi, in, n_hi));
+  }
+}
+
+// chordKernel on gathered ends (chordEndsAvx512, chordEndsAvx2), with the polynomial: unit-stride
+// loads only (compiled for AVX2; the AVX-512 form below).
+__attribute__((target("avx2"))) bool chordProductsOfEndsAvx2(int K, float c, const float* __restrict az,
+                                                             const float* __restrict rho, const float* __restrict ap,
+                                                             const float* __restrict rp, const float* __restrict an,
+                                                             const float* __restrict rn, float* __restrict cross,
+                                                             float* __restrict dot, float* __restrict v2,
+                                                             float* __restrict u2)
+{
+  int large = 0;
+  for (int k = 0; k < K; ++k)
+    large |= chordSample(c, az[k], rho[k], ap[k], rp[k], an[k], rn[k], polySinCos<float>, cross[k], dot[k], v2[k],
+                         u2[k]);
+  return large != 0;
+}
+
 // chordKernel on gathered ends (chordEndsAvx512), with the polynomial: unit-stride loads only.
 __attribute__((target("avx512f"))) bool chordProductsOfEnds(int K, float c, const float* __restrict az,
                                                             const float* __restrict rho, const float* __restrict ap,
@@ -418,6 +473,19 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
       large = chordProductsOfEnds(K16, cf, azp, rpf, AP, RP, AN, RN, CROSS, DOT, V2, U2);
       const bool tail = chordProducts(Ki - K16, cf, H + K16, L + K16, Rr + K16, azp + K16, rpf + K16, CROSS + K16,
                                       DOT + K16, V2 + K16, U2 + K16);
+      large = large || tail;
+    }
+    else if (P.max_chord_samples <= 8 && __builtin_cpu_supports("avx2"))
+    {
+      float* const AP = U2 + K;
+      float* const RP = AP + K;
+      float* const AN = RP + K;
+      float* const RN = AN + K;
+      const int K8 = Ki / 8 * 8;
+      chordEndsAvx2(K8, H, L, Rr, azp, rpf, AP, RP, AN, RN);
+      large = chordProductsOfEndsAvx2(K8, cf, azp, rpf, AP, RP, AN, RN, CROSS, DOT, V2, U2);
+      const bool tail = chordProducts(Ki - K8, cf, H + K8, L + K8, Rr + K8, azp + K8, rpf + K8, CROSS + K8, DOT + K8,
+                                      V2 + K8, U2 + K8);
       large = large || tail;
     }
     else
