@@ -105,6 +105,9 @@ RC_SIMD_CLONES_WIDE bool chordProducts(int K, float c, const int* H, const int* 
 {
   return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos<float>);
 }
+// The chord ends are gathered and used a chunk of samples at a time, so that they stay in L1.
+constexpr int kEndsChunk = 256;
+
 #if defined(RC_SIMD_CLONES_ON)
 RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // The chord ends' azimuths and ranges of samples [0, K16) (K16 a multiple of 16), gathered into
@@ -451,7 +454,7 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
     const float res = std::max(1e-6f, g.azimuth_resolution);
     const float cf = g.ring_cos[static_cast<std::size_t>(n)];
     growTo(half_, K);
-    growTo(chord_, 8 * static_cast<std::size_t>(K));
+    growTo(chord_, 4 * static_cast<std::size_t>(K) + 4 * kEndsChunk);
     int* H = half_.data();
     float* CROSS = chord_.data();  // the chords' cross and dot products, squared lengths
     float* DOT = CROSS + K;
@@ -459,49 +462,61 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
     float* U2 = V2 + K;
     chordSamples(static_cast<int>(K), rpf, cf, res, P.chord_length, P.max_chord_samples, H);
     const int Ki = static_cast<int>(K);
-    bool large;
+    // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
+    // The turning angle and arc length go straight into kappa (one loop, not two through arrays).
+    const auto curvatureOf = [CROSS, DOT, V2, U2, L, Rr, turning, curvature](std::uint32_t k0, std::uint32_t k1)
+                                 __attribute__((always_inline)) {
+      for (std::uint32_t k = k0; k < k1; ++k)
+      {
+        const float turn = std::fabs(fastAtan2(CROSS[k], DOT[k]));
+        const float len = 0.5f * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
+        storeCurvature(turn, len, (L[k] != 0) & (Rr[k] != 0), turning[k], curvature[k]);
+      }
+    };
+    std::uint32_t curved = 0;  // samples [0, curved) have their curvature stored
+    bool large = false;
 #if defined(RC_SIMD_CLONES_ON)
-    // reaches of at most 16 samples (H <= max_chord_samples): the ends by permutes (chordEndsAvx512)
+    // Where every reach is at most 16 samples (H <= max_chord_samples) on AVX-512, or 8 on AVX2,
+    // the ends come from permutes (chordEndsAvx512, chordEndsAvx2) into a chunk's arrays, and the
+    // chunk's products and curvatures follow while they are in L1 (the ends of a whole ring
+    // first, then its products: features 1.09 of this on KITTI frames, 1.07 on the 29k ones).
+    // The last K % width samples take the compiler's form.
+    // (always_inline: the clone of computeRing it runs in holds the loops' vector code; outlined,
+    // GCC compiled it once, for the baseline, and the features took 2.3 times as long)
+    const auto byChunks = [&](int width, auto ends, auto products) __attribute__((always_inline)) {
+      float* const AP = U2 + K;  // the chunk's chord ends: azimuths and ranges
+      float* const RP = AP + kEndsChunk;
+      float* const AN = RP + kEndsChunk;
+      float* const RN = AN + kEndsChunk;
+      const int Kw = Ki / width * width;
+      for (int k0 = 0; k0 < Kw; k0 += kEndsChunk)
+      {
+        const int len = std::min(kEndsChunk, Kw - k0);
+        ends(len, H + k0, L + k0, Rr + k0, azp + k0, rpf + k0, AP, RP, AN, RN);
+        const bool chunk = products(len, cf, azp + k0, rpf + k0, AP, RP, AN, RN, CROSS + k0, DOT + k0, V2 + k0, U2 + k0);
+        large = large || chunk;
+        curvatureOf(static_cast<std::uint32_t>(k0), static_cast<std::uint32_t>(k0 + len));
+      }
+      curved = static_cast<std::uint32_t>(Kw);
+      const bool tail =
+          chordProducts(Ki - Kw, cf, H + Kw, L + Kw, Rr + Kw, azp + Kw, rpf + Kw, CROSS + Kw, DOT + Kw, V2 + Kw, U2 + Kw);
+      large = large || tail;
+    };
     if (P.max_chord_samples <= 16 && __builtin_cpu_supports("avx512f"))
-    {
-      float* const AP = U2 + K;  // the chord ends' azimuths and ranges
-      float* const RP = AP + K;
-      float* const AN = RP + K;
-      float* const RN = AN + K;
-      const int K16 = Ki / 16 * 16;
-      chordEndsAvx512(K16, H, L, Rr, azp, rpf, AP, RP, AN, RN);
-      large = chordProductsOfEnds(K16, cf, azp, rpf, AP, RP, AN, RN, CROSS, DOT, V2, U2);
-      const bool tail = chordProducts(Ki - K16, cf, H + K16, L + K16, Rr + K16, azp + K16, rpf + K16, CROSS + K16,
-                                      DOT + K16, V2 + K16, U2 + K16);
-      large = large || tail;
-    }
+      byChunks(16, chordEndsAvx512, chordProductsOfEnds);
     else if (P.max_chord_samples <= 8 && __builtin_cpu_supports("avx2"))
-    {
-      float* const AP = U2 + K;
-      float* const RP = AP + K;
-      float* const AN = RP + K;
-      float* const RN = AN + K;
-      const int K8 = Ki / 8 * 8;
-      chordEndsAvx2(K8, H, L, Rr, azp, rpf, AP, RP, AN, RN);
-      large = chordProductsOfEndsAvx2(K8, cf, azp, rpf, AP, RP, AN, RN, CROSS, DOT, V2, U2);
-      const bool tail = chordProducts(Ki - K8, cf, H + K8, L + K8, Rr + K8, azp + K8, rpf + K8, CROSS + K8, DOT + K8,
-                                      V2 + K8, U2 + K8);
-      large = large || tail;
-    }
+      byChunks(8, chordEndsAvx2, chordProductsOfEndsAvx2);
     else
 #endif
     {
       large = chordProducts(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
     }
-    if (large) chordProductsLibm(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
-    // Vectorized: fastAtan2 is branch-free, and std::sqrt has no errno branch (-fno-math-errno).
-    // The turning angle and arc length go straight into kappa (one loop, not two through arrays).
-    for (std::uint32_t k = 0; k < K; ++k)
+    if (large)
     {
-      const float turn = std::fabs(fastAtan2(CROSS[k], DOT[k]));
-      const float len = 0.5f * (std::sqrt(V2[k]) + std::sqrt(U2[k]));
-      storeCurvature(turn, len, (L[k] != 0) & (Rr[k] != 0), turning[k], curvature[k]);
+      chordProductsLibm(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
+      curved = 0;
     }
+    curvatureOf(curved, K);
   }
   else
   {
