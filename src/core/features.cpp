@@ -493,13 +493,14 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
       {
         const int len = std::min(kEndsChunk, Kw - k0);
         ends(len, H + k0, L + k0, Rr + k0, azp + k0, rpf + k0, AP, RP, AN, RN);
-        const bool chunk = products(len, cf, azp + k0, rpf + k0, AP, RP, AN, RN, CROSS + k0, DOT + k0, V2 + k0, U2 + k0);
+        const bool chunk =
+            products(len, cf, azp + k0, rpf + k0, AP, RP, AN, RN, CROSS + k0, DOT + k0, V2 + k0, U2 + k0);
         large = large || chunk;
         curvatureOf(static_cast<std::uint32_t>(k0), static_cast<std::uint32_t>(k0 + len));
       }
       curved = static_cast<std::uint32_t>(Kw);
-      const bool tail =
-          chordProducts(Ki - Kw, cf, H + Kw, L + Kw, Rr + Kw, azp + Kw, rpf + Kw, CROSS + Kw, DOT + Kw, V2 + Kw, U2 + Kw);
+      const bool tail = chordProducts(Ki - Kw, cf, H + Kw, L + Kw, Rr + Kw, azp + Kw, rpf + Kw, CROSS + Kw,
+                                      DOT + Kw, V2 + Kw, U2 + Kw);
       large = large || tail;
     };
     if (P.max_chord_samples <= 16 && __builtin_cpu_supports("avx512f"))
