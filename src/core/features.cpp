@@ -186,28 +186,13 @@ __attribute__((target("avx2"))) void chordEndsAvx2(int K8, const int* __restrict
 }
 
 // chordKernel on gathered ends (chordEndsAvx512, chordEndsAvx2), with the polynomial: unit-stride
-// loads only (compiled for AVX2; the AVX-512 form below).
-__attribute__((target("avx2"))) bool chordProductsOfEndsAvx2(int K, float c, const float* __restrict az,
-                                                             const float* __restrict rho, const float* __restrict ap,
-                                                             const float* __restrict rp, const float* __restrict an,
-                                                             const float* __restrict rn, float* __restrict cross,
-                                                             float* __restrict dot, float* __restrict v2,
-                                                             float* __restrict u2)
-{
-  int large = 0;
-  for (int k = 0; k < K; ++k)
-    large |= chordSample(c, az[k], rho[k], ap[k], rp[k], an[k], rn[k], polySinCos<float>, cross[k], dot[k], v2[k],
-                         u2[k]);
-  return large != 0;
-}
-
-// chordKernel on gathered ends (chordEndsAvx512), with the polynomial: unit-stride loads only.
-__attribute__((target("avx512f"))) bool chordProductsOfEnds(int K, float c, const float* __restrict az,
-                                                            const float* __restrict rho, const float* __restrict ap,
-                                                            const float* __restrict rp, const float* __restrict an,
-                                                            const float* __restrict rn, float* __restrict cross,
-                                                            float* __restrict dot, float* __restrict v2,
-                                                            float* __restrict u2)
+// loads only. (Cloned: the AVX-512 CPUs that gather by chordEndsAvx512 run its AVX-512 form, the
+// others, which gather by chordEndsAvx2, its AVX2 form.)
+RC_SIMD_CLONES_WIDE bool chordProductsOfEnds(int K, float c, const float* __restrict az, const float* __restrict rho,
+                                             const float* __restrict ap, const float* __restrict rp,
+                                             const float* __restrict an, const float* __restrict rn,
+                                             float* __restrict cross, float* __restrict dot, float* __restrict v2,
+                                             float* __restrict u2)
 {
   int large = 0;
   for (int k = 0; k < K; ++k)
@@ -506,7 +491,7 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
     if (P.max_chord_samples <= 16 && __builtin_cpu_supports("avx512f"))
       byChunks(16, chordEndsAvx512, chordProductsOfEnds);
     else if (P.max_chord_samples <= 8 && __builtin_cpu_supports("avx2"))
-      byChunks(8, chordEndsAvx2, chordProductsOfEndsAvx2);
+      byChunks(8, chordEndsAvx2, chordProductsOfEnds);
     else
 #endif
     {
