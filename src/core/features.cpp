@@ -50,19 +50,6 @@ inline void smallSinCos(T a, T& s, T& c)
   polySinCos(a, s, c);
 }
 
-// Chord mode's developed chords from vertex k to k - min(H, L) and k + min(H, R), on the padded
-// ring arrays (`az`, `rho` indexed from -pad): their cross and dot products and squared
-// lengths. Where a side has no neighbour the reach is 0 and the chord degenerates to the vertex
-// itself (harmless values the caller never stores). The sine and cosine come from the
-// polynomial alone; returns true when an angle exceeded its range (odd data), and the caller
-// then recomputes the ring with the libm branch. A function of its own for `__restrict` (which
-// GCC honours on parameters): a gathered load might otherwise alias a store, and the loop stayed
-// scalar; with it the loop is vectorized.
-// In float, eight samples a vector (double took four, and twice the bytes per gathered range).
-// Float keeps the turning angle to ~1e-6 rad: the incoming chord's x component, rho_k -
-// rho_kp cos(a), loses ~1 ulp of the range (1e-6 m at 10 m) against a chord of >= 0.25 m, and
-// the angle already goes through fastAtan2 in float (~1e-5 rad); the products cross / dot of
-// chords of ~0.25 m keep float's relative precision (no sums of large terms here).
 // One sample's chords from its own azimuth and range and its two chord ends' (p: incoming, n:
 // outgoing); returns 1 when an angle exceeded the polynomial's range. Shared by the kernel that
 // reads the ends through their indices and the one that reads them gathered (chordEndsAvx512),
@@ -85,6 +72,19 @@ inline int chordSample(float c, float az_k, float rho_k, float az_p, float rho_p
   u2 = ux * ux + uy * uy;
   return large;
 }
+// Chord mode's developed chords from vertex k to k - min(H, L) and k + min(H, R), on the padded
+// ring arrays (`az`, `rho` indexed from -pad): their cross and dot products and squared
+// lengths. Where a side has no neighbour the reach is 0 and the chord degenerates to the vertex
+// itself (harmless values the caller never stores). The sine and cosine come from the
+// polynomial alone; returns true when an angle exceeded its range (odd data), and the caller
+// then recomputes the ring with the libm branch. A function of its own for `__restrict` (which
+// GCC honours on parameters): a gathered load might otherwise alias a store, and the loop stayed
+// scalar; with it the loop is vectorized.
+// In float, eight samples a vector (double took four, and twice the bytes per gathered range).
+// Float keeps the turning angle to ~1e-6 rad: the incoming chord's x component, rho_k -
+// rho_kp cos(a), loses ~1 ulp of the range (1e-6 m at 10 m) against a chord of >= 0.25 m, and
+// the angle already goes through fastAtan2 in float (~1e-5 rad); the products cross / dot of
+// chords of ~0.25 m keep float's relative precision (no sums of large terms here).
 template <class SinCos>
 inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
                         const float* __restrict rho, float* __restrict cross, float* __restrict dot,
@@ -116,7 +116,7 @@ RC_AVX512_BEGIN  // (simd_clones.hpp: GCC 12's false -Wmaybe-uninitialized)
 // arrays, and each gather is one two-source permute of two of them. The compiler's vector form
 // of the same reads (chordProducts' clones) builds each gathered lane from a scalar load and an
 // insert (no gather instruction: objdump), 64 a group of sixteen. `az` and `rho` must be
-// readable on [-16, K16 + 32).
+// readable on [-16, K16 + 16).
 __attribute__((target("avx512f"))) void chordEndsAvx512(int K16, const int* __restrict H, const int* __restrict L,
                                                         const int* __restrict R, const float* __restrict az,
                                                         const float* __restrict rho, float* __restrict ap,
@@ -156,7 +156,7 @@ __attribute__((target("avx2"))) inline __m256 pickWindow(__m256 a, __m256 b, __m
 // chordEndsAvx512 for CPUs with AVX2 alone, eight samples a step and reaches of at most 8 (the
 // default longest chord is 6): the ends of eight samples from k0 lie in [k0 - 8, k0 + 16), and
 // each gather is two one-source permutes and a blend (AVX2 has no two-source permute). `az`
-// and `rho` must be readable on [-8, K8 + 16).
+// and `rho` must be readable on [-8, K8 + 8).
 __attribute__((target("avx2"))) void chordEndsAvx2(int K8, const int* __restrict H, const int* __restrict L,
                                                    const int* __restrict R, const float* __restrict az,
                                                    const float* __restrict rho, float* __restrict ap,
@@ -391,7 +391,8 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
   // The default modes' features (Chord, Jump, Detrended with small windows) run in float, eight
   // samples a vector, on the float ranges; the other modes keep the double ranges, and so do the
   // smoothness's prefix sums (squared ranges summed over a ring).
-  // (16 more before and 32 more after: the windows chordEndsAvx512 reads, values never used)
+  // (16 more on each side, and 16 spare: the windows chordEndsAvx512 reads past the padding,
+  // values never used)
   growTo(az_pad_, K + 2 * static_cast<std::size_t>(cap) + 48);
   growTo(rho_pad_f_, K + 2 * static_cast<std::size_t>(cap) + 48);
   float* const azp = az_pad_.data() + cap + 16;
