@@ -469,7 +469,7 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
     // The last K % width samples take the compiler's form.
     // (always_inline: the clone of computeRing it runs in holds the loops' vector code; outlined,
     // GCC compiled it once, for the baseline, and the features took 2.3 times as long)
-    const auto byChunks = [&](int width, auto ends, auto products) __attribute__((always_inline)) {
+    const auto byChunks = [&](int width, auto ends) __attribute__((always_inline)) {
       float* const AP = U2 + K;  // the chunk's chord ends: azimuths and ranges
       float* const RP = AP + kEndsChunk;
       float* const AN = RP + kEndsChunk;
@@ -479,8 +479,8 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
       {
         const int len = std::min(kEndsChunk, Kw - k0);
         ends(len, H + k0, L + k0, Rr + k0, azp + k0, rpf + k0, AP, RP, AN, RN);
-        const bool chunk =
-            products(len, cf, azp + k0, rpf + k0, AP, RP, AN, RN, CROSS + k0, DOT + k0, V2 + k0, U2 + k0);
+        const bool chunk = chordProductsOfEnds(len, cf, azp + k0, rpf + k0, AP, RP, AN, RN, CROSS + k0, DOT + k0,
+                                               V2 + k0, U2 + k0);
         large = large || chunk;
         curvatureOf(static_cast<std::uint32_t>(k0), static_cast<std::uint32_t>(k0 + len));
       }
@@ -490,9 +490,9 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
       large = large || tail;
     };
     if (P.max_chord_samples <= 16 && __builtin_cpu_supports("avx512f"))
-      byChunks(16, chordEndsAvx512, chordProductsOfEnds);
+      byChunks(16, chordEndsAvx512);
     else if (P.max_chord_samples <= 8 && __builtin_cpu_supports("avx2"))
-      byChunks(8, chordEndsAvx2, chordProductsOfEnds);
+      byChunks(8, chordEndsAvx2);
     else
 #endif
     {
