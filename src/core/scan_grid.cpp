@@ -7,7 +7,6 @@
 #include "angles.hpp"
 #include "cloud_view_checks.hpp"
 #include "compress_table.hpp"
-#include "cpu_tuning.hpp"
 #include "record_read.hpp"
 #include "ring_curvature/prefetch.hpp"
 #include "simd_clones.hpp"
@@ -58,12 +57,14 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 }
 
 #if defined(RC_SIMD_CLONES_ON)
-// gatherXyz for the AMD tuning profile (cpu_tuning.hpp), eight positions a step: where their
-// input indices are eight consecutive ones (a ring that arrived in azimuth order: most of a
-// KITTI frame), the floats are read as one vector each and widened, the ranges copied as two;
-// elsewhere one position at a time, as gatherXyz. The same values either way (float32 widens
-// to double exactly). The store streams' prefetches once a group (a line of each). Returns the
-// positions done.
+// gatherXyz eight positions a step on AVX2 CPUs: where their input indices are eight
+// consecutive ones (a ring that arrived in azimuth order: most of a KITTI frame), the floats are
+// read as one vector each and widened, the ranges copied as two; elsewhere one position at a
+// time, as gatherXyz. The same values either way (float32 widens to double exactly). The store
+// streams' prefetches once a group (a line of each). Returns the positions done. First for the
+// AMD tuning profile only; on the Intel host of session 15 it took the grid 0.976 of its time on
+// KITTI and made no difference on the velodyne frames (interleaved rings: 0.995-1.005), so it
+// runs on both (on session 14's host: grid 0.989 on KITTI).
 __attribute__((target("avx2"))) std::size_t gatherXyzRunsAvx2(std::size_t m, const std::uint32_t* index,
                                                               const float* px, const float* py, const float* pz,
                                                               const double* prange, double* gx, double* gy,
@@ -271,7 +272,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   {
     std::size_t done = 0;
 #if defined(RC_SIMD_CLONES_ON)
-    if (__builtin_cpu_supports("avx2") && !detail::avx2Gathers())
+    if (__builtin_cpu_supports("avx2"))
       done = gatherXyzRunsAvx2(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
 #endif
     gatherXyz(m - done, index + done, px_.data(), py_.data(), pz_.data(), prange_.data(), gx + done, gy + done,
