@@ -57,54 +57,91 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 }
 
 #if defined(RC_SIMD_CLONES_ON)
-// gatherXyz eight positions a step on AVX2 CPUs: where their input indices are eight
-// consecutive ones (a ring that arrived in azimuth order: most of a KITTI frame), the floats are
-// read as one vector each and widened, the ranges copied as two; elsewhere one position at a
-// time, as gatherXyz. The same values either way (float32 widens to double exactly). The store
-// streams' prefetches once a group (a line of each). Returns the positions done. First for the
-// AMD tuning profile only; on the Intel host of session 15 it took the grid 0.976 of its time on
-// KITTI and made no difference on the velodyne frames (interleaved rings: 0.995-1.005), so it
-// runs on both (on session 14's host: grid 0.989 on KITTI).
-__attribute__((target("avx2"))) std::size_t gatherXyzRunsAvx2(std::size_t m, const std::uint32_t* index,
-                                                              const float* px, const float* py, const float* pz,
-                                                              const double* prange, double* gx, double* gy,
-                                                              double* gz, double* gr)
+// Two vectors of doubles from eight floats at src, stored at dst.
+__attribute__((target("avx2"), always_inline)) inline void widenEight(const float* src, double* dst, __m256d& lo,
+                                                                     __m256d& hi)
+{
+  const __m256 v = _mm256_loadu_ps(src);
+  lo = _mm256_cvtps_pd(_mm256_castps256_ps128(v));
+  hi = _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
+  _mm256_storeu_pd(dst, lo);
+  _mm256_storeu_pd(dst + 4, hi);
+}
+
+// One ring's part of gatherXyz, positions [b, e), for frames whose rings arrived in runs of
+// consecutive input indices (most of a KITTI frame), with its points' grid positions and the sum
+// of the sines of their elevations (z / range) in grid order, returned, for the ring's mean
+// elevation. Eight positions a step: where their input indices are eight consecutive ones, the
+// floats are read as one vector each and widened, the ranges copied as two, the grid positions
+// stored as one vector and the sines divided four at a time (IEEE division: the same quotients)
+// and added one by one in order; elsewhere one position at a time. The same values and the same
+// sum as gatherXyz and build's summing pass. Summed here, the sum's serial chain of additions runs
+// under the gather's loads, where its own pass waited on it: on the Intel host of session 16, the
+// grid 0.92 of its time on KITTI. On interleaved rings (velodyne frames: no runs) the fused form
+// took the grid 1.02-1.08 of its time on the same host: those keep the two passes. The store
+// streams' prefetches once a group (a line of each).
+__attribute__((target("avx2"))) double gatherRingRunsAvx2(std::size_t b, std::size_t e, const std::uint32_t* index,
+                                                          const float* px, const float* py, const float* pz,
+                                                          const double* prange, double* gx, double* gy, double* gz,
+                                                          double* gr, std::int32_t* grid_pos)
 {
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  std::size_t p = 0;
-  for (; p + 8 <= m; p += 8)
+  double s = 0;
+  std::size_t p = b;
+  const auto one = [&](std::size_t q) __attribute__((always_inline))
+  {
+    const std::uint32_t i = index[q];
+    const double z = pz[i], r = prange[i];
+    gx[q] = px[i];
+    gy[q] = py[i];
+    gz[q] = z;
+    gr[q] = r;
+    grid_pos[i] = static_cast<std::int32_t>(q);
+    s += z / r;
+  };
+  for (; p + 8 <= e; p += 8)
   {
     prefetchGridStreams(p, gx, gy, gz, gr);
     const std::uint32_t i0 = index[p];
     const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + p));
     const __m256i want = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(i0)), lane);
-    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(idx, want)) == -1)
+    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(idx, want)) != -1)
     {
-#define RC_WIDEN(src, dst)                                                   \
-  do                                                                         \
-  {                                                                          \
-    const __m256 v = _mm256_loadu_ps((src) + i0);                            \
-    _mm256_storeu_pd((dst) + p, _mm256_cvtps_pd(_mm256_castps256_ps128(v))); \
-    _mm256_storeu_pd((dst) + p + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1))); \
-  } while (false)
-      RC_WIDEN(px, gx);
-      RC_WIDEN(py, gy);
-      RC_WIDEN(pz, gz);
-#undef RC_WIDEN
-      _mm256_storeu_pd(gr + p, _mm256_loadu_pd(prange + i0));
-      _mm256_storeu_pd(gr + p + 4, _mm256_loadu_pd(prange + i0 + 4));
+      for (std::size_t q = p; q < p + 8; ++q) one(q);
       continue;
     }
-    for (std::size_t q = p; q < p + 8; ++q)
-    {
-      const std::uint32_t i = index[q];
-      gx[q] = px[i];
-      gy[q] = py[i];
-      gz[q] = pz[i];
-      gr[q] = prange[i];
-    }
+    __m256d lo, hi, z_lo, z_hi;
+    widenEight(px + i0, gx + p, lo, hi);
+    widenEight(py + i0, gy + p, lo, hi);
+    widenEight(pz + i0, gz + p, z_lo, z_hi);
+    const __m256d r_lo = _mm256_loadu_pd(prange + i0), r_hi = _mm256_loadu_pd(prange + i0 + 4);
+    _mm256_storeu_pd(gr + p, r_lo);
+    _mm256_storeu_pd(gr + p + 4, r_hi);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(grid_pos + i0),
+                        _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(p)), lane));
+    alignas(32) double sine[8];
+    _mm256_store_pd(sine, _mm256_div_pd(z_lo, r_lo));
+    _mm256_store_pd(sine + 4, _mm256_div_pd(z_hi, r_hi));
+    for (const double v : sine) s += v;
   }
-  return p;
+  for (; p < e; ++p) one(p);
+  return s;
+}
+
+// Whether the grid's rings arrived in runs of consecutive input indices: the first eight
+// positions of the first ring that has eight are (velodyne frames interleave their rings).
+bool ringsArriveInRuns(const ScanGrid& grid)
+{
+  const std::uint32_t* const index = grid.index.data();
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)];
+    if (grid.ring_begin[static_cast<std::size_t>(n) + 1] - b < 8) continue;
+    for (std::uint32_t k = 1; k < 8; ++k)
+      if (index[b + k] != index[b] + k) return false;
+    return true;
+  }
+  return false;
 }
 
 // keptStretch eight samples a step.
@@ -268,16 +305,12 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
                     view.z.type == ScalarType::Float32;
   // (Organized float32 frames on AVX2 were gathered by placeOrganized, grid positions and
   // elevation sums included.)
-  if (fast && !gathered)
-  {
-    std::size_t done = 0;
+  bool runs = false;  // (gathered with the elevation sums, one ring at a time, below)
 #if defined(RC_SIMD_CLONES_ON)
-    if (__builtin_cpu_supports("avx2"))
-      done = gatherXyzRunsAvx2(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
+  runs = fast && !gathered && __builtin_cpu_supports("avx2") && ringsArriveInRuns(grid);
 #endif
-    gatherXyz(m - done, index + done, px_.data(), py_.data(), pz_.data(), prange_.data(), gx + done, gy + done,
-              gz + done, gr + done);
-  }
+  if (fast && !gathered && !runs)
+    gatherXyz(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
   else if (!fast)
   {
     const std::size_t W = view.width;
@@ -311,6 +344,13 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     {
       s = ring_sum_[static_cast<std::size_t>(n)];
     }
+#if defined(RC_SIMD_CLONES_ON)
+    else if (runs)
+    {
+      s = gatherRingRunsAvx2(b, e, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr,
+                             grid.grid_pos.data());
+    }
+#endif
     else
     {
       for (std::uint32_t p = b; p < e; ++p)
