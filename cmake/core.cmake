@@ -18,6 +18,7 @@ add_library(ring_curvature_core
   src/core/primitive_sums.cpp
   src/core/covariance_axis.cpp
   src/core/primitive_runs.cpp
+  src/core/vertical_pairs.cpp
   src/core/pipeline.cpp
   src/core/cpu_tuning.cpp)
 target_include_directories(ring_curvature_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})

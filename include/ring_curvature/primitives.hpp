@@ -63,6 +63,7 @@ private:
   UninitializedVector<std::uint32_t> dup_root_; // root of each duplicate's component (none if unwanted)
   UninitializedVector<std::uint32_t> dup_rank_; // points of that component before the duplicate
   UninitializedVector<std::uint32_t> run_begins_, run_ends_;  // a ring's runs as cutRingAvx2 lists them
+  UninitializedVector<std::uint64_t> vertical_pairs_;  // a ring's run pairs as verticalPairsAvx512 lists them
   UninitializedVector<std::uint32_t> slot_pos_;  // grid position of each grid point's entry of PrimitiveSet::indices
   // Scratch kept zero between frames (a plain vector: a resize zero-fills new entries).
   std::vector<std::uint32_t> dup_count_;  // per grid position: the duplicates it represents

@@ -9,6 +9,7 @@
 #include "primitive_runs.hpp"
 #include "primitive_sums.hpp"
 #include "simd_clones.hpp"
+#include "vertical_pairs.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -112,22 +113,6 @@ __attribute__((noinline)) std::size_t cutRing(std::uint32_t b, std::uint32_t e, 
   return num_runs;
 }
 
-// The inputs of the vertical unions (below) of one ring with the ring above it.
-struct VerticalRing
-{
-  std::uint32_t b, e;  // the ring above: [b, e)
-  const PrimitiveExtractor::Run* __restrict runs;
-  const Label* __restrict lab;
-  const std::int32_t* __restrict up;
-  const double* __restrict range;
-  const float* __restrict azimuth;
-  bool organized;
-  double half_ratio, range_min;  // inRange's range_ratio * 0.5 * (ra + rb), left to right
-  float az_tol;
-  const std::uint32_t* __restrict run;
-  std::uint32_t* parent;
-};
-
 // Position p of run rp (label l, end pe) with the nearest sample above, uu, and the ones beside
 // it, c1 and c2, where in0, in1, in2 say which of the three are within Eq 20 of p: see
 // verticalUnions. Returns the last position it covers: p, or beyond it where the positions after
@@ -180,7 +165,7 @@ __attribute__((always_inline)) inline std::uint32_t joinAbove(const VerticalRing
 // run and is never visited, and a run's id, end and label are known without a look-up per
 // position. Neighbouring runs meet many times over: the last pair of runs united is
 // remembered, and the same pair again needs no find(). (none: no run has that id.) This is the
-// baseline code; with AVX2 verticalUnionsAvx2 (below) runs.
+// baseline code; with AVX2 verticalUnionsAvx2 (below) runs, with AVX-512 verticalPairsAvx512.
 __attribute__((noinline)) void verticalUnions(const VerticalRing& V, std::uint32_t k0, std::uint32_t k1,
                                               std::uint32_t none)
 {
@@ -299,6 +284,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   join_.resize(m + 16);
   run_begins_.resize(m + 16);
   run_ends_.resize(m + 16);
+  vertical_pairs_.resize(m + 8);
 
   // a table: this is asked once or more per grid position in every loop below. Lambdas in the
   // loops capture by value: through a reference capture the compiler read the captured locals
@@ -338,6 +324,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   std::int32_t* const comp = comp_.data();
   Run* const runs = runs_.data();
   std::uint8_t* const join = join_.data();
+  std::uint64_t* const pairs = vertical_pairs_.data();
   const auto none = static_cast<std::uint32_t>(m);
   parent[none] = none;
 #if defined(RC_SIMD_CLONES_ON)
@@ -380,7 +367,21 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
                            run, parent};
       const auto k0 = static_cast<std::uint32_t>(ring_runs), k1 = static_cast<std::uint32_t>(first_run);
 #if defined(RC_SIMD_CLONES_ON)
-      if (avx2)
+      if (avx512)
+      {
+        // The same unions as the loops' in another order: the components and their roots (the
+        // smallest run id) do not depend on it. Consecutive entries differ: the test asks only
+        // across a position without a pair.
+        const std::size_t np = verticalPairsAvx512(V, ring_begin[n - 1], b, none, pairs);
+        std::uint64_t last = kNoVerticalPair;
+        for (std::size_t i = 0; i < np; ++i)
+          if (pairs[i] != last)
+          {
+            last = pairs[i];
+            unite(parent, static_cast<std::uint32_t>(last), static_cast<std::uint32_t>(last >> 32));
+          }
+      }
+      else if (avx2)
         verticalUnionsAvx2(V, k0, k1, none);
       else
 #endif
@@ -391,9 +392,10 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
 
   // Component sizes, run by run. A root is the smallest run id of its component (see unite),
   // so it is the component's first run, and path halving keeps parent[k] <= k: in grid
-  // order, parent[parent[k]] is already the root, and is stored back for the look-ups below. Roots are listed as they come, i.e. in scan order. Each run and each duplicate
-  // keeps its rank among the points of its component (the count before it), which is where
-  // its indices go: the fill below then needs no cursor per primitive.
+  // order, parent[parent[k]] is already the root, and is stored back for the look-ups below.
+  // Roots are listed as they come, i.e. in scan order. Each run and each duplicate keeps its
+  // rank among the points of its component (the count before it), which is where its indices
+  // go: the fill below then needs no cursor per primitive.
   std::uint32_t* const roots = roots_.data();
   std::size_t num_roots = 0;
   for (std::size_t k = 0; k < num_runs; ++k)
