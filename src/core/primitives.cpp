@@ -324,12 +324,12 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   std::int32_t* const comp = comp_.data();
   Run* const runs = runs_.data();
   std::uint8_t* const join = join_.data();
-  std::uint64_t* const pairs = vertical_pairs_.data();
   const auto none = static_cast<std::uint32_t>(m);
   parent[none] = none;
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx2 = __builtin_cpu_supports("avx2");
   const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt");
+  std::uint64_t* const pairs = vertical_pairs_.data();
 #endif
   // A component's size is counted at its root. A duplicate of an unwanted label's position
   // counts at `none`, which starts far below zero: it counts without a test and its component

@@ -108,14 +108,21 @@ __attribute__((target("avx512f,avx2,popcnt"))) std::size_t verticalPairsAvx512(c
   const __m512i no_pair = _mm512_set1_epi64(static_cast<long long>(kNoVerticalPair));
   const __m512d half = _mm512_set1_pd(V.half_ratio), range_min = _mm512_set1_pd(V.range_min);
   const __m512 pi = _mm512_set1_ps(kPi), two_pi = _mm512_set1_ps(kTwoPi), az_tol = _mm512_set1_ps(V.az_tol);
+  // (locals: through V, the loop reloaded every pointer after each store to pairs)
+  const Label* const lab = V.lab;
+  const std::int32_t* const above = V.up;
+  const std::uint32_t* const run = V.run;
+  const double* const range = V.range;
+  const float* const azimuth = V.azimuth;
+  const bool organized = V.organized;
   std::uint64_t prev = kNoVerticalPair;
   std::size_t np = 0;
   for (std::uint32_t p = b0; p < e0; p += 8)
   {
     const std::uint32_t left = e0 - p;
     const auto lanes = static_cast<__mmask16>(left >= 8 ? 0xFFu : (1u << left) - 1);
-    const __m512i up = _mm512_maskz_loadu_epi32(lanes, V.up + p);
-    const __m512i rp = _mm512_maskz_loadu_epi32(lanes, V.run + p);
+    const __m512i up = _mm512_maskz_loadu_epi32(lanes, above + p);
+    const __m512i rp = _mm512_maskz_loadu_epi32(lanes, run + p);
     // a wanted label (a run) and a sample above
     const __mmask16 act = lanes & _mm512_cmpge_epi32_mask(up, zero) & _mm512_cmpneq_epi32_mask(rp, vnone);
     if (act == 0)
@@ -126,7 +133,10 @@ __attribute__((target("avx512f,avx2,popcnt"))) std::size_t verticalPairsAvx512(c
     const __m512i u1 = _mm512_add_epi32(up, one);
     const __m512i c1 = _mm512_mask_blend_epi32(_mm512_cmpgt_epu32_mask(up, vb), ve1, _mm512_sub_epi32(up, one));
     const __m512i c2 = _mm512_mask_blend_epi32(_mm512_cmplt_epu32_mask(u1, ve), vb, u1);
-    const std::uint32_t base = _mm512_mask_reduce_min_epu32(act, c1);
+    // the window from the first position's candidate before: the samples above move along
+    // with the positions (where they do not, the test below sends the block to runAbove)
+    const auto first = static_cast<std::uint32_t>(above[p + static_cast<std::uint32_t>(__builtin_ctz(act))]);
+    const std::uint32_t base = first > b ? first - 1 : b;
     const __m512i vbase = _mm512_set1_epi32(static_cast<int>(base));
     const __m512i i0 = _mm512_sub_epi32(up, vbase), i1 = _mm512_sub_epi32(c1, vbase), i2 = _mm512_sub_epi32(c2, vbase);
     const __mmask16 in_window = _mm512_cmplt_epu32_mask(i0, sixteen) & _mm512_cmplt_epu32_mask(i1, sixteen) &
@@ -136,8 +146,8 @@ __attribute__((target("avx512f,avx2,popcnt"))) std::size_t verticalPairsAvx512(c
       const std::uint32_t n = left >= 8 ? 8 : left;
       for (std::uint32_t i = 0; i < n; ++i)
       {
-        const std::uint32_t q = p + i, r = V.run[q];
-        const std::uint32_t rq = r == none ? none : runAbove(V, q, V.lab[q], none);
+        const std::uint32_t q = p + i, r = run[q];
+        const std::uint32_t rq = r == none ? none : runAbove(V, q, lab[q], none);
         const std::uint64_t pair = rq == none ? kNoVerticalPair : pairOf(r, rq);
         if (pair != kNoVerticalPair && pair != prev) pairs[np++] = pair;
         prev = pair;
@@ -147,20 +157,20 @@ __attribute__((target("avx512f,avx2,popcnt"))) std::size_t verticalPairsAvx512(c
     // the window above: [base, base + 16) within the ring
     const std::uint32_t wn = e - base;
     const auto wmask = static_cast<__mmask16>(wn >= 16 ? 0xFFFFu : (1u << wn) - 1);
-    const __m512d r_lo = _mm512_maskz_loadu_pd(static_cast<__mmask8>(wmask), V.range + base);
-    const __m512d r_hi = _mm512_maskz_loadu_pd(static_cast<__mmask8>(wmask >> 8), V.range + base + 8);
-    const __m512 w_az = _mm512_maskz_loadu_ps(wmask, V.azimuth + base);
-    const __m512i w_run = _mm512_maskz_loadu_epi32(wmask, V.run + base);
+    const __m512d r_lo = _mm512_maskz_loadu_pd(static_cast<__mmask8>(wmask), range + base);
+    const __m512d r_hi = _mm512_maskz_loadu_pd(static_cast<__mmask8>(wmask >> 8), range + base + 8);
+    const __m512 w_az = _mm512_maskz_loadu_ps(wmask, azimuth + base);
+    const __m512i w_run = _mm512_maskz_loadu_epi32(wmask, run + base);
     // (the labels are the caller's array: not read past e0 or e)
-    const __m128i w_lab8 = wn >= 16 ? _mm_loadu_si128(reinterpret_cast<const __m128i*>(V.lab + base))
-                                    : loadFew(V.lab + base, wn);
+    const __m128i w_lab8 = wn >= 16 ? _mm_loadu_si128(reinterpret_cast<const __m128i*>(lab + base))
+                                    : loadFew(lab + base, wn);
     const __m128i lab8 =
-        left >= 8 ? _mm_loadl_epi64(reinterpret_cast<const __m128i*>(V.lab + p)) : loadFew(V.lab + p, left);
+        left >= 8 ? _mm_loadl_epi64(reinterpret_cast<const __m128i*>(lab + p)) : loadFew(lab + p, left);
     const __m512i w_lab = _mm512_cvtepu8_epi32(w_lab8), la = _mm512_cvtepu8_epi32(lab8);
-    const __m512d ra = _mm512_maskz_loadu_pd(static_cast<__mmask8>(lanes), V.range + p);
-    const __m512 aa = _mm512_maskz_loadu_ps(lanes, V.azimuth + p);
+    const __m512d ra = _mm512_maskz_loadu_pd(static_cast<__mmask8>(lanes), range + p);
+    const __m512 aa = _mm512_maskz_loadu_ps(lanes, azimuth + p);
     const Window w{r_lo, r_hi, w_az, w_lab, ra, aa, la, half, range_min, pi, two_pi, az_tol};
-    const __mmask16 m0 = joins(w, i0, !V.organized), m1 = joins(w, i1, true), m2 = joins(w, i2, true);
+    const __mmask16 m0 = joins(w, i0, !organized), m1 = joins(w, i1, true), m2 = joins(w, i2, true);
     const auto any = static_cast<__mmask8>(act & (m0 | m1 | m2));
     const __m512i sel = _mm512_mask_blend_epi32(m0, _mm512_mask_blend_epi32(m1, i2, i1), i0);
     const __m512i rq = _mm512_permutexvar_epi32(sel, w_run);
