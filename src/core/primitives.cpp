@@ -329,6 +329,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx2 = __builtin_cpu_supports("avx2");
   const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt");
+  const bool vertical_pairs = verticalPairsRuns();
   std::uint64_t* const pairs = vertical_pairs_.data();
 #endif
   // A component's size is counted at its root. A duplicate of an unwanted label's position
@@ -367,7 +368,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
                            run, parent};
       const auto k0 = static_cast<std::uint32_t>(ring_runs), k1 = static_cast<std::uint32_t>(first_run);
 #if defined(RC_SIMD_CLONES_ON)
-      if (avx512)
+      if (vertical_pairs)
       {
         // The same unions as the loops' in another order: the components and their roots (the
         // smallest run id) do not depend on it. Consecutive entries differ: the test asks only

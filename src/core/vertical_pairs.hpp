@@ -40,9 +40,17 @@ constexpr std::uint64_t kNoVerticalPair = ~std::uint64_t{0};
 /// before (the first position: from kNoVerticalPair) and are not kNoVerticalPair, in position
 /// order. Returns how many: at most e0 - b0; `pairs` needs room for 8 more (it may write
 /// whole vectors past the list). Reads V.run[], V.range[] and V.azimuth[] only
-/// inside the rings, the labels up to e0 and e. Only with AVX-512F and POPCNT.
+/// inside the rings, the labels up to e0 and e. Only with AVX-512F, DQ, BW and VL and POPCNT
+/// (verticalPairsRuns says whether the CPU has them).
 std::size_t verticalPairsAvx512(const VerticalRing& V, std::uint32_t b0, std::uint32_t e0, std::uint32_t none,
                                 std::uint64_t* pairs);
+
+/// Whether this CPU runs verticalPairsAvx512.
+inline bool verticalPairsRuns()
+{
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("popcnt");
+}
 #endif
 
 }  // namespace ring_curvature

@@ -3,7 +3,7 @@
 // rings of every length and start, samples above that step along the ring (the window of
 // sixteen), jump (the one-at-a-time blocks), wrap at the seam or are missing, ranges on both
 // sides of Eq 20's tolerance, azimuths across +-pi, organized or not. Skipped on CPUs without
-// AVX-512F (and under valgrind, which reports none).
+// AVX-512F, DQ, BW and VL (and under valgrind, which reports none).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -46,7 +46,7 @@ std::uint32_t referenceRunAbove(const VerticalRing& V, double range_ratio, std::
 
 TEST(VerticalPairs, EightAtATimeAreTheLoopsTests)
 {
-  if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("popcnt")) GTEST_SKIP() << "no AVX-512F";
+  if (!verticalPairsRuns()) GTEST_SKIP() << "no AVX-512F, DQ, BW and VL";
   std::mt19937 rng(11);
   const auto r = [&rng](std::uint32_t n) { return static_cast<std::uint32_t>(rng() % n); };
   const auto u01 = [&rng]() { return std::uniform_real_distribution<double>(0, 1)(rng); };
