@@ -8,6 +8,7 @@
 #include "ring_index.hpp"
 #include "simd_clones.hpp"
 #include "smoothness.hpp"
+#include "vertical_pairs.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
 #include <immintrin.h>
@@ -308,7 +309,10 @@ const char* coreLoopsIsa()
 #if defined(RC_SIMD_CLONES_ON)
     std::string isa = "baseline";
     if (__builtin_cpu_supports("avx512f"))
-      isa = "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
+      isa = verticalPairsRuns()
+                ? "avx2, avx512f (features, input, fold, ring sort, vertical, run cut; "
+                  "with BW, DQ, VL the vertical unions)"
+                : "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
     else if (__builtin_cpu_supports("avx2"))
       isa = "avx2";
 #else
