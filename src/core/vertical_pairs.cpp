@@ -2,9 +2,9 @@
 //
 // The AVX2 loop (primitives.cpp) takes one position at a time and branches on each test: all
 // three candidates out of range, the label, the azimuth, the end of the stretch it skips. Those
-// outcomes are data (walls and ground alternate along a ring), and a mispredicted branch costs
-// more than the tests: the loop took 12 % of the pipeline on KITTI and OS1-128 frames, where
-// testing its idle stretches eight at a time gained nothing (docs/benchmark.md). Here every
+// outcomes are data (walls and ground alternate along a ring), and mispredicted branches were the
+// likely cost: the loop took 12 % of the benchmark's samples on KITTI and OS1-128 frames, and
+// testing its idle stretches alone eight at a time gained nothing (docs/benchmark.md). Here every
 // position is tested, without a branch: eight positions a vector, their candidates above taken
 // by permutes from a window of sixteen samples (the nearest sample above moves along the ring
 // with the position), and only where the pair of runs changes is an entry written for the
