@@ -309,10 +309,8 @@ const char* coreLoopsIsa()
 #if defined(RC_SIMD_CLONES_ON)
     std::string isa = "baseline";
     if (__builtin_cpu_supports("avx512f"))
-      isa = verticalPairsRuns()
-                ? "avx2, avx512f (features, input, fold, ring sort, vertical, run cut; "
-                  "with BW, DQ, VL the vertical unions)"
-                : "avx2, avx512f (features, input, fold, ring sort, vertical, run cut)";
+      isa = std::string("avx2, avx512f (features, input, fold, ring sort, vertical, run cut") +
+            (verticalPairsRuns() ? "; with BW, DQ, VL the vertical unions)" : ")");
     else if (__builtin_cpu_supports("avx2"))
       isa = "avx2";
 #else

@@ -8,6 +8,7 @@
 #include "cpu_tuning.hpp"
 #include "primitive_runs.hpp"
 #include "primitive_sums.hpp"
+#include "proximity.hpp"
 #include "simd_clones.hpp"
 #include "vertical_pairs.hpp"
 
@@ -24,13 +25,6 @@ namespace ring_curvature
 
 namespace
 {
-inline float angDiff(float a, float b) { return circularDistance(a - b); }
-
-inline bool inRange(double ra, double rb, double range_ratio, double range_min)
-{
-  return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));  // Eq 20
-}
-
 // Which positions (b, e) of a ring join their predecessor's run: same wanted label (labels 1 to
 // num_wanted), linked, and close by Eq 19-20, in the operand order of the pair (p-1, p). Each
 // position on its own, without branches: the compiler vectorizes the loop (16 positions an

@@ -13,8 +13,8 @@
 #include "vertical_pairs.hpp"
 
 #include "angles.hpp"
+#include "proximity.hpp"
 
-#include <cmath>
 #if defined(RC_SIMD_CLONES_ON)
 #include <immintrin.h>
 #endif
@@ -35,9 +35,8 @@ std::uint32_t runAbove(const VerticalRing& V, std::uint32_t p, Label l, std::uin
   const double ra = V.range[p];
   const float aa = V.azimuth[p];
   const auto takes = [&V, ra, aa, l](std::uint32_t q, bool check_azimuth) {
-    const double rb = V.range[q], t = V.half_ratio * (ra + rb), tol = V.range_min > t ? V.range_min : t;
-    return !(std::fabs(ra - rb) > tol) && V.lab[q] == l &&
-           (!check_azimuth || circularDistance(aa - V.azimuth[q]) <= V.az_tol);  // Eq 19-20
+    return inRangeHalf(ra, V.range[q], V.half_ratio, V.range_min) && V.lab[q] == l &&
+           (!check_azimuth || angDiff(aa, V.azimuth[q]) <= V.az_tol);  // Eq 19-20
   };
   if (takes(uu, !V.organized)) return V.run[uu];
   if (takes(c1, true)) return V.run[c1];

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../../src/core/angles.hpp"
+#include "../../src/core/proximity.hpp"
 #include "../../src/core/vertical_pairs.hpp"
 
 using namespace ring_curvature;
@@ -20,14 +21,8 @@ using namespace ring_curvature;
 #if defined(RC_SIMD_CLONES_ON)
 namespace
 {
-// Eq 19-20 as primitives.cpp's inRange and angDiff state them
-bool inRange(double ra, double rb, double range_ratio, double range_min)
-{
-  return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));
-}
-
 // The first of up, the one before, the one after (in the ring above, with its seam) that has
-// p's label and is close; none if none is.
+// p's label and is close by primitives.cpp's Eq 19-20 (proximity.hpp); none if none is.
 std::uint32_t referenceRunAbove(const VerticalRing& V, double range_ratio, std::uint32_t p, std::uint32_t none)
 {
   if (V.up[p] < 0 || V.run[p] == none) return none;
@@ -36,7 +31,7 @@ std::uint32_t referenceRunAbove(const VerticalRing& V, double range_ratio, std::
   for (int k = 0; k < 3; ++k)
   {
     const std::uint32_t q = cand[k];
-    const bool azimuth_ok = (k == 0 && V.organized) || circularDistance(V.azimuth[p] - V.azimuth[q]) <= V.az_tol;
+    const bool azimuth_ok = (k == 0 && V.organized) || angDiff(V.azimuth[p], V.azimuth[q]) <= V.az_tol;
     if (inRange(V.range[p], V.range[q], range_ratio, V.range_min) && V.lab[q] == V.lab[p] && azimuth_ok)
       return V.run[q];
   }
