@@ -53,5 +53,40 @@ bool avx2Gathers()
 }
 const char* cpuTuningName() { return profile().name.c_str(); }
 
+namespace
+{
+struct Avx512Cap
+{
+  bool off;
+  std::string note;
+};
+
+Avx512Cap chooseAvx512Cap()
+{
+  const char* const env = std::getenv("RC_CPU_AVX512");
+  if (env == nullptr || *env == 0 || std::strcmp(env, "on") == 0) return {false, ""};
+  if (std::strcmp(env, "off") == 0) return {true, "; AVX-512 forms off (RC_CPU_AVX512=off)"};
+  // (named in the banner, as RC_CPU_TUNING's typos are)
+  return {false, std::string("; RC_CPU_AVX512='") + env + "' ignored: not off or on"};
+}
+
+const Avx512Cap& avx512Cap()
+{
+  static const Avx512Cap c = chooseAvx512Cap();
+  return c;
+}
+}  // namespace
+
+bool avx512Forms()
+{
+#if defined(RC_SIMD_CLONES_ON)
+  static const bool on = __builtin_cpu_supports("avx512f") && !avx512Cap().off;
+  return on;
+#else
+  return false;
+#endif
+}
+const char* avx512Note() { return avx512Cap().note.c_str(); }
+
 }  // namespace detail
 }  // namespace ring_curvature

@@ -32,5 +32,19 @@ bool avx2Gathers();
 /// other value is named here and ignored.
 const char* cpuTuningName();
 
+/// True where the hand-written AVX-512 forms run (input pass, fold, ring sort, vertical
+/// neighbours and unions, run cut, chord ends, organized placement): a CPU with AVX-512F, unless
+/// RC_CPU_AVX512=off in the environment (read once, at the first call) keeps them off. Then the
+/// AVX2 forms run in their place, as on a CPU without AVX-512 (most laptops and desktops: the
+/// paper's i7-12700 has none), so that they can be timed side by side and tested natively on an
+/// AVX-512 host, or kept where AVX-512 lowers the clock. The outputs are the same bits either
+/// way. The features' loops are target clones that the loader picks by the CPU alone
+/// (simd_clones.hpp): those stay AVX-512 on an AVX-512 CPU.
+bool avx512Forms();
+
+/// For the banner: "" when RC_CPU_AVX512 is unset (or empty), "; AVX-512 forms off
+/// (RC_CPU_AVX512=off)", or a note that a value other than off / on was ignored.
+const char* avx512Note();
+
 }  // namespace detail
 }  // namespace ring_curvature

@@ -308,15 +308,17 @@ const char* coreLoopsIsa()
   static const std::string s = [] {
 #if defined(RC_SIMD_CLONES_ON)
     std::string isa = "baseline";
-    if (__builtin_cpu_supports("avx512f"))
+    if (detail::avx512Forms())
       isa = std::string("avx2, avx512f (features, input, fold, ring sort, vertical, run cut") +
             (verticalPairsRuns() ? "; with BW, DQ, VL the vertical unions)" : ")");
+    else if (__builtin_cpu_supports("avx512f"))  // (RC_CPU_AVX512=off: the loader's clones only)
+      isa = "avx2, avx512f (features)";
     else if (__builtin_cpu_supports("avx2"))
       isa = "avx2";
 #else
     std::string isa = "baseline";
 #endif
-    return isa + "; tuning " + detail::cpuTuningName();
+    return isa + "; tuning " + detail::cpuTuningName() + detail::avx512Note();
   }();
   return s.c_str();
 }
@@ -491,7 +493,7 @@ RC_SIMD_CLONES_WIDE void FeatureComputer::computeRing(const ScanGrid& g, const P
                                       DOT + Kw, V2 + Kw, U2 + Kw);
       large = large || tail;
     };
-    if (P.max_chord_samples <= 16 && __builtin_cpu_supports("avx512f"))
+    if (P.max_chord_samples <= 16 && detail::avx512Forms())
       byChunks(16, chordEndsAvx512);
     else if (P.max_chord_samples <= 8 && __builtin_cpu_supports("avx2"))
       byChunks(8, chordEndsAvx2);

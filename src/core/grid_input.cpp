@@ -8,6 +8,7 @@
 #include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
 #include "record_read.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -297,7 +298,7 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
   std::uint32_t max_read = 0;
   std::size_t done = 0;
 #if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_supports("avx512f"))
+  if (detail::avx512Forms())
   {
     // (plain loads on every profile: measured faster than the gathers on Sapphire Rapids)
     const auto read = detail::next32Layout(ox, oy, oz, oring, has_ring) ? readXyzRecordsAvx512<true>

@@ -8,6 +8,7 @@
 #include "input_avx2.hpp"
 #include "input_avx512.hpp"
 #include "ring_curvature/prefetch.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -417,7 +418,7 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
                           grid.state.data()};
   std::size_t w = 0;
   largest = 0;
-  const bool wide = __builtin_cpu_supports("avx512f");
+  const bool wide = detail::avx512Forms();
   const bool gathers = detail::inputGathers(layout.ox, layout.oy, layout.oz);
   const auto readRow = gathers ? readPlaceRowAvx2<true> : readPlaceRowAvx2<false>;
   for (std::size_t r = 0; r < R; ++r)

@@ -4,6 +4,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "angles.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -274,7 +275,7 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx2 = __builtin_cpu_supports("avx2");
   // sixteen samples a step (verticalGroupsAvx512), eight where its window does not hold
-  const bool avx512 = __builtin_cpu_supports("avx512f");
+  const bool avx512 = detail::avx512Forms();
   // Two rings at a time (see verticalGroupsAvx2); a group the vector path cannot take goes
   // through the walk, and the rest of the ring back to the vector path.
   const auto searchPair = [&](VerticalStream& s0, VerticalStream& s1) {

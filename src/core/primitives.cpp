@@ -322,7 +322,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   parent[none] = none;
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx2 = __builtin_cpu_supports("avx2");
-  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt");
+  const bool avx512 = detail::avx512Forms() && __builtin_cpu_supports("popcnt");
   const bool vertical_pairs = verticalPairsRuns();
   std::uint64_t* const pairs = vertical_pairs_.data();
 #endif

@@ -5,6 +5,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include "compress_table.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -183,7 +184,7 @@ std::uint32_t ScanGridBuilder::foldRing(std::uint64_t* keys, std::uint32_t k, st
   std::uint32_t w = 0, j = 0;
   std::uint64_t p1 = sentinel, p2 = sentinel;
 #if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt"))
+  if (detail::avx512Forms() && __builtin_cpu_supports("popcnt"))
     j = foldAvx512(keys, k, w, p1, p2, range, followers, num_followers);
   if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
     j = foldAvx2(keys, j, k, w, p1, p2, range, followers, num_followers);

@@ -6,6 +6,7 @@
 #include "angles.hpp"
 #include "grow.hpp"
 #include "ring_sort_avx512.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 
 #if defined(RC_SIMD_CLONES_ON)
@@ -256,7 +257,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     RingFold f{};
     std::uint32_t nx = 0;
 #if defined(RC_SIMD_CLONES_ON)
-    const bool avx2 = __builtin_cpu_supports("avx2"), avx512 = __builtin_cpu_supports("avx512f");
+    const bool avx2 = __builtin_cpu_supports("avx2"), avx512 = detail::avx512Forms();
 #endif
     // Points [from, to) in input order, folding or not. Without folding, the stretches of the
     // current ring get their keys in one call (ringStretchAvx2, sortKeys); this loop takes the
@@ -348,7 +349,7 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
   constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
   alignas(64) std::uint64_t keys[kBlock];  // (64: whole cache lines for the AVX-512 stores)
 #if defined(RC_SIMD_CLONES_ON)
-  const bool avx512 = __builtin_cpu_supports("avx512f");
+  const bool avx512 = detail::avx512Forms();
 #else
   const bool avx512 = false;
 #endif
@@ -382,7 +383,7 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
   std::size_t from = 1;
   std::uint32_t down = 0;
 #if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_supports("avx512f")) from = detail::arrivalStepsAvx512(src, k, steps_.data(), wide_.data(), down);
+  if (detail::avx512Forms()) from = detail::arrivalStepsAvx512(src, k, steps_.data(), wide_.data(), down);
 #endif
   down += arrivalSteps(src, from, k, steps_.data(), wide_.data());
   std::uint32_t wrap_fwd = 0, wrap_bwd = 0;

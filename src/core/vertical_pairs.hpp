@@ -3,6 +3,7 @@
 #pragma once
 
 #include "ring_curvature/primitives.hpp"
+#include "cpu_tuning.hpp"
 #include "simd_clones.hpp"
 
 #include <cstddef>
@@ -48,7 +49,7 @@ std::size_t verticalPairsAvx512(const VerticalRing& V, std::uint32_t b0, std::ui
 /// Whether this CPU runs verticalPairsAvx512.
 inline bool verticalPairsRuns()
 {
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+  return detail::avx512Forms() && __builtin_cpu_supports("avx512dq") &&
          __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("popcnt");
 }
 #endif
