@@ -23,6 +23,10 @@ struct PrimitiveInfo
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   Eigen::Vector3f axis = Eigen::Vector3f::Zero();         ///< PLANE: unit normal; else principal direction
   Eigen::Vector3f eigenvalues = Eigen::Vector3f::Zero();  ///< covariance eigenvalues, ascending [m^2]
+  /// covariance of the points (duplicates included) about their mean, divided by num_points
+  /// [m^2]: what `eigenvalues` and `axis` come from, e.g. for a SLAM factor's weight or a
+  /// patch's in-plane extent
+  Eigen::Matrix3f covariance = Eigen::Matrix3f::Zero();
   Eigen::Vector3f bbox_min = Eigen::Vector3f::Zero(), bbox_max = Eigen::Vector3f::Zero();
   float rms_error = 0;            ///< PLANE: RMS distance to the plane; EDGE: to the line [m]
   std::uint16_t ring_min = 0, ring_max = 0;

@@ -551,6 +551,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
     Eigen::Matrix3d cov;
     cov << S.m[0], S.mxy[0], S.m[2], S.mxy[0], S.m[1], S.mxy[1], S.m[2], S.mxy[1], S.m[3];
     cov /= static_cast<double>(np);
+    pr.covariance = cov.cast<float>();
     Eigen::Vector3d eigenvalues, axis;  // (covariance_axis.hpp: computeDirect's steps, one column)
     covarianceAxis(cov, pr.label == Label::Plane ? 0 : 2, eigenvalues, axis);
     const Eigen::Vector3d ev = eigenvalues.cwiseMax(0.0);  // ascending

@@ -69,45 +69,13 @@ inline T dotWith(T dx, T dy, T dz, const Eigen::Vector3f& w)
   return dx * w.x() + (dy * w.y() + dz * w.z());
 }
 
-/// The sums of a plane patch's 2-D covariance in its in-plane basis u0, v0 about the centroid,
-/// accumulated by pointsOf as it gathers the points (see addPlane): the loop that summed them
-/// afterwards was a chain of dependent additions with little else to do, which now overlaps with
-/// the gather. Summed point by point in gather order, as one pass over the stored points did
-/// (float addition does not associate); a lane of the 4-wide form rounds as the scalar form.
-struct PlaneSums
+/// A plane patch's frame: its unit normal n, the in-plane basis u0, v0, its centroid, and its
+/// 2-D covariance in that basis (planeFrame).
+struct PlaneFrame
 {
   Eigen::Vector3f n, u0, v0;
   float cx, cy, cz;
-  /// cuu, cvv, cuv and a zero: one register for the three running sums, each lane its own
-  /// sum (three float sums spilled to the stack in the gather loop, for want of registers).
-  Float4 c = {};
-  void add(float x, float y, float z)
-  {
-    const float dx = x - cx, dy = y - cy, dz = z - cz;
-    const float qu = dotWith(dx, dy, dz, u0), qv = dotWith(dx, dy, dz, v0);
-    c += Float4{qu * qu, qv * qv, qu * qv, 0.0f};
-  }
-  void add4(Float4 x, Float4 y, Float4 z)
-  {
-    const Float4 dx = x - cx, dy = y - cy, dz = z - cz;
-    const Float4 qu = dotWith(dx, dy, dz, u0), qv = dotWith(dx, dy, dz, v0);
-    const Float4 uu = qu * qu, vv = qv * qv, uv = qu * qv, zero = {};
-    // The four points' {uu, vv, uv, 0} (a transpose), added one point after the other.
-    // (__builtin_shufflevector: clang, and GCC from 12, Debian 12's.)
-    const Float4 a = __builtin_shufflevector(uu, vv, 0, 4, 1, 5), b = __builtin_shufflevector(uv, zero, 0, 4, 1, 5);
-    const Float4 e = __builtin_shufflevector(uu, vv, 2, 6, 3, 7), f = __builtin_shufflevector(uv, zero, 2, 6, 3, 7);
-    c += __builtin_shufflevector(a, b, 0, 1, 4, 5);
-    c += __builtin_shufflevector(a, b, 2, 3, 6, 7);
-    c += __builtin_shufflevector(e, f, 0, 1, 4, 5);
-    c += __builtin_shufflevector(e, f, 2, 3, 6, 7);
-  }
-};
-
-/// No sums (the primitives other than planes).
-struct NoSums
-{
-  void add(float, float, float) {}
-  void add4(Float4, Float4, Float4) {}
+  float cuu, cvv, cuv;
 };
 
 /// How many points ahead pointsOf asks for the input records it will read (see there).
@@ -115,10 +83,9 @@ constexpr std::size_t kPrefetch = 32;
 
 /// Reads the finite points of one primitive in place from the view into the scratch buffers.
 /// Returns none when any index is out of range (a primitive set that does not belong to this
-/// cloud: draw nothing rather than garbage). Adds every point it keeps to `sums`, in order.
-template <class Sums>
+/// cloud: draw nothing rather than garbage).
 Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
-                MarkerScratch& buf, Sums& sums_out)
+                MarkerScratch& buf)
 {
   Points pts{buf.x.data(), buf.y.data(), buf.z.data(), 0};
   const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
@@ -147,9 +114,6 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
   float* const zs = buf.z.data();
   pts = Points{xs, ys, zs, 0};
   std::size_t m = 0;
-  // A local copy, written back at the end: the float stores below might alias the caller's
-  // object, and its sums would be stored and reloaded per point.
-  Sums sums = sums_out;
   const std::uint32_t* const idx = prims.indices.data();
   // Keeps a point when its three coordinates are finite. x - x is +0 for a finite x and NaN
   // otherwise: one test for the three (three isfinite tests were a quarter of the gather's
@@ -161,7 +125,6 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     ys[m] = y;
     zs[m] = z;
     ++m;
-    sums.add(x, y, z);
   };
   if (float32 && flat)
   {
@@ -209,7 +172,6 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
         store4(ys + m, y);
         store4(zs + m, z);
         m += 4;
-        sums.add4(x, y, z);
       }
       else
       {
@@ -245,7 +207,6 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     }
   }
   pts.size = m;
-  sums_out = sums;
   return pts;
 }
 
@@ -331,33 +292,40 @@ Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
 }
 
 
-/// The plane's unit normal and the in-plane basis u0, v0 the covariance is summed in; false when
-/// the axis is no direction (no patch is drawn).
-bool planeFrame(const PrimitiveInfo& prim, PlaneSums& sums)
+/// The plane's unit normal, the in-plane basis u0, v0 and the patch's covariance in it, from the
+/// core's covariance of its points (u0^T C u0 and so on: where the markers summed it again over
+/// the points, a chain of additions a point, that took more of the markers' time than reading
+/// the points); false when the axis is no direction (no patch is drawn).
+bool planeFrame(const PrimitiveInfo& prim, PlaneFrame& f)
 {
   Eigen::Vector3f n = prim.axis;
   if (!(n.squaredNorm() > 0.0f) || !n.allFinite())
     return false;
   n.normalize();
-  sums.n = n;
+  f.n = n;
   // In-plane principal direction from the points' 2-D covariance, so the quad follows the patch
   // (a wall strip seen by 16 rings is long and thin; a square would misdraw it).
-  sums.u0 = anyPerpendicular(n);
-  sums.v0 = n.cross(sums.u0);
-  sums.cx = prim.centroid.x();
-  sums.cy = prim.centroid.y();
-  sums.cz = prim.centroid.z();
+  f.u0 = anyPerpendicular(n);
+  f.v0 = n.cross(f.u0);
+  f.cx = prim.centroid.x();
+  f.cy = prim.centroid.y();
+  f.cz = prim.centroid.z();
+  const Eigen::Matrix3f& c = prim.covariance;
+  const Eigen::Vector3f cu = c * f.u0, cv = c * f.v0;
+  f.cuu = f.u0.dot(cu);
+  f.cvv = f.v0.dot(cv);
+  f.cuv = f.u0.dot(cv);
   return true;
 }
 
-/// `sums`: planeFrame's, with every point of `pts` added.
-void addPlane(const PrimitiveInfo& prim, const Points& pts, const PlaneSums& sums, const std_msgs::Header& header,
+/// `f`: planeFrame's.
+void addPlane(const PrimitiveInfo& prim, const Points& pts, const PlaneFrame& f, const std_msgs::Header& header,
               Slots& out)
 {
-  const Eigen::Vector3f& n = sums.n;
-  const Eigen::Vector3f& u0 = sums.u0;
-  const Eigen::Vector3f& v0 = sums.v0;
-  const float cuu = sums.c[0], cvv = sums.c[1], cuv = sums.c[2];
+  const Eigen::Vector3f& n = f.n;
+  const Eigen::Vector3f& u0 = f.u0;
+  const Eigen::Vector3f& v0 = f.v0;
+  const float cuu = f.cuu, cvv = f.cvv, cuv = f.cuv;
   // Major axis of a 2x2 covariance in closed form (no iterative solver for two dimensions).
   const float angle = 0.5f * std::atan2(2.0f * cuv, cuu - cvv);
   const Eigen::Vector3f u = (std::cos(angle) * u0 + std::sin(angle) * v0).normalized();
@@ -366,7 +334,7 @@ void addPlane(const PrimitiveInfo& prim, const Points& pts, const PlaneSums& sum
   // merged at the end. Each update is std::min / std::max's own test (a NaN never replaces the
   // bound), and the bounds start at +0, which a -0 never replaces: the same bits as one pass.
   // Four points at a time; the scalar form handles the last ones.
-  const float cx = sums.cx, cy = sums.cy, cz = sums.cz;
+  const float cx = f.cx, cy = f.cy, cz = f.cz;
   const float* const xs = pts.x;
   const float* const ys = pts.y;
   const float* const zs = pts.z;
@@ -485,16 +453,15 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   {
     if (prim.label == Label::Plane)
     {
-      PlaneSums sums;
-      if (!planeFrame(prim, sums))
+      PlaneFrame frame;
+      if (!planeFrame(prim, frame))
         continue;
-      const Points pts = pointsOf(prims, prim, cloud, buf, sums);
+      const Points pts = pointsOf(prims, prim, cloud, buf);
       if (pts.size > 0)
-        addPlane(prim, pts, sums, header, out);
+        addPlane(prim, pts, frame, header, out);
       continue;
     }
-    NoSums none;
-    const Points pts = pointsOf(prims, prim, cloud, buf, none);
+    const Points pts = pointsOf(prims, prim, cloud, buf);
     if (pts.size == 0)
       continue;
     switch (prim.label)

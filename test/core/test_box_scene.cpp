@@ -247,8 +247,8 @@ TEST(BoxScene, NoiseFreeCreasesJumpsAndFaces) { runBoxScene(0.0, {0.9, 0.95, 0.9
 // this test was written (creases 23/32, jumps 40/40, Edge precision 24/31, faces 16817/16819).
 TEST(BoxScene, OneCentimetreNoise) { runBoxScene(0.01, {0.65, 0.9, 0.7, 0.98}); }
 
-// Each primitive's box, centroid, eigenvalues, axis and RMS error are, bit for bit, those of the
-// plain accumulation over its grid points in the order of its indices, each weighted by its
+// Each primitive's box, centroid, covariance, eigenvalues, axis and RMS error are, bit for bit,
+// those of the plain accumulation over its grid points in the order of its indices, each weighted by its
 // duplicates (the float box of its grid points; in double about its first point r, the sums of
 // w d, (w d) d and (w d) rot(d), d = p - r, w = 1 + the duplicates whose representative it is;
 // the centroid r + sum(w d) / n, the moments about it sum(w d d^T) - sum(w d) sum(w d)^T / n, n
@@ -336,6 +336,8 @@ TEST(BoxScene, PrimitiveSummariesArePerPointSums)
       EXPECT_TRUE(same(pr.centroid, centroid)) << "primitive " << pr.id;
       EXPECT_TRUE(same(pr.eigenvalues, evf) && same(pr.axis, axisf) && same(pr.rms_error, rms))
           << "primitive " << pr.id;
+      const Eigen::Matrix3f covf = cov.cast<float>();
+      EXPECT_TRUE(same(pr.covariance, covf)) << "primitive " << pr.id;
     }
     if (cloud == &dual)
     {

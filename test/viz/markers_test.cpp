@@ -54,6 +54,10 @@ void addPrimitive(rc::PrimitiveSet& set, rc::Label label, const std::vector<std:
   for (auto i : idx)
     c += pts[i];
   p.centroid = c / static_cast<float>(idx.size());
+  p.covariance.setZero();  // (as the core's: about the mean, over the points)
+  for (auto i : idx)
+    p.covariance += (pts[i] - p.centroid) * (pts[i] - p.centroid).transpose();
+  p.covariance /= static_cast<float>(idx.size());
   p.axis = axis;
   set.indices.insert(set.indices.end(), idx.begin(), idx.end());
   set.primitives.push_back(p);
@@ -201,6 +205,46 @@ TEST(Markers, PlanePatchCoversItsPointsInItsPlane)
   const Eigen::Vector3d dir = (to - from).normalized();
   EXPECT_NEAR(dir.x(), -1.0, 1e-5);  // along the given normal, towards the sensor
   EXPECT_GT((to - from).norm(), 0.2);
+}
+
+// A strip 4 m long and 0.1 m wide on the ground, diagonal to x and y: the quad follows it (from
+// the primitive's covariance), an area near the strip's 0.4 m^2, where one along x and y would
+// span 2.9 m by 2.9 m. The same strip without its covariance gets that axis-aligned quad.
+TEST(Markers, PlanePatchFollowsItsCovariance)
+{
+  std::vector<Eigen::Vector3f> pts;
+  const Eigen::Vector3f along = Eigen::Vector3f(1, 1, 0).normalized(), across(-along.y(), along.x(), 0);
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 2; ++j)
+      pts.push_back(Eigen::Vector3f(10, 3, -1.7f) + (-2.0f + 0.1f * static_cast<float>(i)) * along +
+                    (-0.05f + 0.05f * static_cast<float>(j)) * across);
+  std::vector<std::uint32_t> idx(pts.size());
+  for (std::uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  Cloud cloud(pts);
+  const auto quadArea = [&](bool with_covariance) {
+    rc::PrimitiveSet set;
+    addPrimitive(set, rc::Label::Plane, idx, pts, Eigen::Vector3f(0, 0, 1));
+    if (!with_covariance) set.primitives[0].covariance.setZero();
+    std_msgs::Header header;
+    auto arr = rc::makePrimitiveMarkers(set, cloud.view, header);
+    auto ns = byNs(*arr);
+    EXPECT_TRUE(ns.count(rc::kPlaneNs));
+    if (!ns.count(rc::kPlaneNs)) return 0.0;
+    const Marker& quad = *ns[rc::kPlaneNs];
+    EXPECT_EQ(quad.points.size(), 12u);
+    if (quad.points.size() != 12u) return 0.0;
+    // triangles (a, b, d) and (a, d, e): the first two of the list
+    double area = 0;
+    for (std::size_t t = 0; t < 2; ++t)
+      area += 0.5 * (vec(quad.points[3 * t + 1]) - vec(quad.points[3 * t]))
+                        .cross(vec(quad.points[3 * t + 2]) - vec(quad.points[3 * t]))
+                        .norm();
+    return area;
+  };
+  const double a = quadArea(true);
+  EXPECT_GT(a, 0.39);
+  EXPECT_LT(a, 0.45);
+  EXPECT_GT(quadArea(false), 7.0);
 }
 
 TEST(Markers, EdgeChainIsOrderedAlongItsAxis)

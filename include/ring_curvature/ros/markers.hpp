@@ -59,8 +59,9 @@ struct MarkerScratch
 };
 
 /// Plane patches: a TRIANGLE_LIST quad spanning the patch's points in its own plane (centroid,
-/// normal = PrimitiveInfo::axis, in-plane principal direction from the points) plus an ARROW along
-/// the normal. Edge chains: a LINE_STRIP through the points ordered along the edge's axis.
+/// normal = PrimitiveInfo::axis, in-plane principal direction from PrimitiveInfo::covariance,
+/// extent from the points) plus an ARROW along the normal. Edge chains: a LINE_STRIP through
+/// the points ordered along the edge's axis.
 /// Corner clusters and rough clusters: a SPHERE_LIST of their points. Colours: kLabelPalette.
 /// Primitives whose indices fall outside `cloud` or whose points are all non-finite are skipped.
 /// `reuse`: an array built by an earlier call, filled again when the caller holds its only
