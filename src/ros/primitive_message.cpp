@@ -32,6 +32,8 @@ PrimitiveArrayPtr makePrimitiveArray(const std_msgs::Header& header, const Primi
     m.axis.z = r.axis.z();
     for (int e = 0; e < 3; ++e)
       m.eigenvalues[e] = r.eigenvalues(e);
+    const Eigen::Matrix3f& c = r.covariance;  // (the upper triangle, row by row)
+    m.covariance = {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)};
     m.rms_error = r.rms_error;
     m.bbox_min = toPoint(r.bbox_min);
     m.bbox_max = toPoint(r.bbox_max);

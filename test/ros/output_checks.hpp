@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -110,6 +111,20 @@ inline void checkPrimitives(const sensor_msgs::PointCloud2& labelled, const ring
     EXPECT_LE(m.label, 4);
     ASSERT_EQ(m.num_points, m.indices.size());
     EXPECT_EQ(m.num_points, count[k]) << "primitive " << k;
+    // the covariance is the matrix of the eigenvalues: the same trace, and for a plane its
+    // variance along the normal is the least eigenvalue (to float rounding of the larger ones)
+    const auto& c = m.covariance;
+    const double trace = c[0] + c[3] + c[5], ev = m.eigenvalues[0] + m.eigenvalues[1] + m.eigenvalues[2];
+    const double tol = 1e-4 * std::max(1e-6, ev);
+    EXPECT_NEAR(trace, ev, tol) << "primitive " << k;
+    EXPECT_GE(std::min({c[0], c[3], c[5]}), 0.0f) << "primitive " << k;
+    if (m.label == 1)
+    {
+      const double nx = m.axis.x, ny = m.axis.y, nz = m.axis.z;
+      const double along = nx * nx * c[0] + ny * ny * c[3] + nz * nz * c[5] +
+                           2 * (nx * ny * c[1] + nx * nz * c[2] + ny * nz * c[4]);
+      EXPECT_NEAR(along, m.eigenvalues[0], tol) << "primitive " << k;
+    }
     for (const std::uint32_t i : m.indices)
     {
       ASSERT_LT(i, n);
