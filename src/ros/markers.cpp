@@ -42,12 +42,6 @@ std_msgs::ColorRGBA colourOf(Label label, float alpha)
 // Four floats per operation (GCC/Clang vector extension). The operations are element-wise IEEE
 // single precision, so every lane rounds exactly as the scalar code does.
 typedef float Float4 __attribute__((vector_size(16)));
-inline Float4 load4(const float* p)
-{
-  Float4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 inline void store4(float* p, Float4 v) { std::memcpy(p, &v, sizeof v); }
 
 /// The finite points of one primitive as three coordinate arrays (the plane loops below then
@@ -69,29 +63,93 @@ inline T dotWith(T dx, T dy, T dz, const Eigen::Vector3f& w)
   return dx * w.x() + (dy * w.y() + dz * w.z());
 }
 
-/// A plane patch's frame: its unit normal n, the in-plane basis u0, v0, its centroid, and its
-/// 2-D covariance in that basis (planeFrame).
+/// A plane patch's frame (planeFrame): its unit normal n, its in-plane principal directions u
+/// and v, its centroid.
 struct PlaneFrame
 {
-  Eigen::Vector3f n, u0, v0;
+  Eigen::Vector3f n, u, v;
   float cx, cy, cz;
-  float cuu, cvv, cuv;
+};
+
+/// Where pointsOf puts the points it keeps, in order: the scratch buffers (edges and clusters,
+/// which draw the points themselves)...
+struct StoredPoints
+{
+  float *xs, *ys, *zs;
+  std::size_t m = 0;
+  void one(float x, float y, float z)
+  {
+    xs[m] = x;
+    ys[m] = y;
+    zs[m] = z;
+    ++m;
+  }
+  void four(Float4 x, Float4 y, Float4 z)
+  {
+    store4(xs + m, x);
+    store4(ys + m, y);
+    store4(zs + m, z);
+    m += 4;
+  }
+};
+
+/// ... or a plane patch's extents along u and v about its centroid, bounded as the points are
+/// read (u and v come from the covariance, before the points): stored first and bounded in a
+/// second pass, each point was written and read once more. A minimum and a maximum do not depend
+/// on the order, so four running ones per bound (four points at a time), merged at the end with
+/// those of single points. Each update is std::min / std::max's own test (a NaN never replaces
+/// the bound), and the bounds start at +0, which a -0 never replaces: the same bits in any order.
+struct PlaneExtents
+{
+  PlaneFrame f;
+  Float4 umin4 = {}, umax4 = {}, vmin4 = {}, vmax4 = {};
+  float umin = 0, umax = 0, vmin = 0, vmax = 0;
+  void one(float x, float y, float z)
+  {
+    const float dx = x - f.cx, dy = y - f.cy, dz = z - f.cz;
+    const float du = dotWith(dx, dy, dz, f.u), dv = dotWith(dx, dy, dz, f.v);
+    umin = std::min(umin, du);
+    umax = std::max(umax, du);
+    vmin = std::min(vmin, dv);
+    vmax = std::max(vmax, dv);
+  }
+  void four(Float4 x, Float4 y, Float4 z)
+  {
+    const Float4 dx = x - f.cx, dy = y - f.cy, dz = z - f.cz;
+    const Float4 du = dotWith(dx, dy, dz, f.u), dv = dotWith(dx, dy, dz, f.v);
+    umin4 = du < umin4 ? du : umin4;
+    umax4 = umax4 < du ? du : umax4;
+    vmin4 = dv < vmin4 ? dv : vmin4;
+    vmax4 = vmax4 < dv ? dv : vmax4;
+  }
+  void merge()
+  {
+    for (int l = 0; l < 4; ++l)
+    {
+      umin = std::min(umin, umin4[l]);
+      umax = std::max(umax, umax4[l]);
+      vmin = std::min(vmin, vmin4[l]);
+      vmax = std::max(vmax, vmax4[l]);
+    }
+  }
 };
 
 /// How many points ahead pointsOf asks for the input records it will read (see there).
 constexpr std::size_t kPrefetch = 32;
 
-/// Reads the finite points of one primitive in place from the view into the scratch buffers.
-/// Returns none when any index is out of range (a primitive set that does not belong to this
+/// Reads the finite points of one primitive in place from the view, in order, into `keep`
+/// (StoredPoints or PlaneExtents; a local copy, written back at the end: the float stores might
+/// alias the caller's object, which would then be stored and reloaded per point). Returns how
+/// many, or 0 when any index is out of range (a primitive set that does not belong to this
 /// cloud: draw nothing rather than garbage).
-Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
-                MarkerScratch& buf)
+template <class Keep>
+std::size_t pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
+                     Keep& keep_out)
 {
-  Points pts{buf.x.data(), buf.y.data(), buf.z.data(), 0};
   const std::size_t end = static_cast<std::size_t>(prim.first) + prim.num_points;
   if (end > prims.indices.size() || cloud.data == nullptr || !cloud.x.present() ||
       !cloud.y.present() || !cloud.z.present())
-    return pts;
+    return 0;
   const bool float32 = cloud.x.type == ScalarType::Float32 && cloud.y.type == ScalarType::Float32 &&
                        cloud.z.type == ScalarType::Float32;
   // Rows without padding (every cloud makeView accepts): record i starts at i * point_step, the
@@ -100,19 +158,9 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
   const std::size_t step = cloud.point_step;
   const bool flat = cloud.height == 1 || cloud.row_step == static_cast<std::size_t>(cloud.width) * step;
   const std::size_t size = cloud.size(), data_size = cloud.data_size;
-  if (buf.x.size() < prim.num_points)
-  {
-    buf.x.resize(prim.num_points);
-    buf.y.resize(prim.num_points);
-    buf.z.resize(prim.num_points);
-  }
-  // Written through plain pointers, everything the loop reads held in locals: push_back's
-  // capacity test and reloads of the view's members per point showed in the profile (planes hold
-  // most points of a frame).
-  float* const xs = buf.x.data();
-  float* const ys = buf.y.data();
-  float* const zs = buf.z.data();
-  pts = Points{xs, ys, zs, 0};
+  // Everything the loop reads held in locals: push_back's capacity test and reloads of the view's
+  // members per point showed in the profile (planes hold most points of a frame).
+  Keep keep = keep_out;
   std::size_t m = 0;
   const std::uint32_t* const idx = prims.indices.data();
   // Keeps a point when its three coordinates are finite. x - x is +0 for a finite x and NaN
@@ -121,9 +169,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
   const auto store = [&](float x, float y, float z) {
     if ((x - x) + (y - y) + (z - z) != 0.0f)
       return;
-    xs[m] = x;
-    ys[m] = y;
-    zs[m] = z;
+    keep.one(x, y, z);
     ++m;
   };
   if (float32 && flat)
@@ -143,7 +189,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     {
       const std::size_t i0 = idx[k], i1 = idx[k + 1], i2 = idx[k + 2], i3 = idx[k + 3];
       if (std::max(std::max(i0, i1), std::max(i2, i3)) >= limit)
-        return pts;
+        return 0;
       // The records of the points kPrefetch places ahead, asked for now: a primitive's indices
       // go ring by ring, each point on another cache line of the input, which the core read
       // long before (out of the cache by now) and which no hardware prefetcher predicts. The
@@ -168,9 +214,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
       std::memcpy(bits, &t, sizeof t);
       if ((bits[0] | bits[1]) == 0)
       {
-        store4(xs + m, x);
-        store4(ys + m, y);
-        store4(zs + m, z);
+        keep.four(x, y, z);
         m += 4;
       }
       else
@@ -183,7 +227,7 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     {
       const std::size_t i = idx[k];
       if (i >= limit)
-        return pts;
+        return 0;
       const std::size_t off = i * step;
       store(readFloat32(px + off), readFloat32(py + off), readFloat32(pz + off));
     }
@@ -194,10 +238,10 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
     {
       const std::uint32_t i = idx[k];
       if (i >= size)
-        return pts;
+        return 0;
       const std::uint8_t* rec = flat ? data + i * step : cloud.record(i);
       if (static_cast<std::size_t>(rec - data) + step > data_size)
-        return pts;
+        return 0;
       if (float32)
         store(readFloat32(rec + cloud.x.offset), readFloat32(rec + cloud.y.offset), readFloat32(rec + cloud.z.offset));
       else
@@ -206,8 +250,23 @@ Points pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const Poin
               static_cast<float>(readScalar(rec + cloud.z.offset, cloud.z.type)));
     }
   }
-  pts.size = m;
-  return pts;
+  keep_out = keep;
+  return m;
+}
+
+/// The finite points of a primitive in the scratch buffers (pointsOf).
+Points storedPoints(const PrimitiveSet& prims, const PrimitiveInfo& prim, const PointCloudView& cloud,
+                    MarkerScratch& buf)
+{
+  if (buf.x.size() < prim.num_points)
+  {
+    buf.x.resize(prim.num_points);
+    buf.y.resize(prim.num_points);
+    buf.z.resize(prim.num_points);
+  }
+  StoredPoints keep{buf.x.data(), buf.y.data(), buf.z.data()};
+  const std::size_t m = pointsOf(prims, prim, cloud, keep);
+  return Points{keep.xs, keep.ys, keep.zs, m};
 }
 
 // Slots::next resets a recycled marker field by field, so it must know every field: these are
@@ -292,10 +351,10 @@ Eigen::Vector3f anyPerpendicular(const Eigen::Vector3f& n)
 }
 
 
-/// The plane's unit normal, the in-plane basis u0, v0 and the patch's covariance in it, from the
-/// core's covariance of its points (u0^T C u0 and so on: where the markers summed it again over
-/// the points, a chain of additions a point, that took more of the markers' time than reading
-/// the points); false when the axis is no direction (no patch is drawn).
+/// The plane's unit normal and in-plane principal directions, from the core's covariance of its
+/// points (u0^T C u0 and so on in a basis u0, v0 of the plane: where the markers summed it again
+/// over the points, a chain of additions a point, that took more of the markers' time than
+/// reading the points); false when the axis is no direction (no patch is drawn).
 bool planeFrame(const PrimitiveInfo& prim, PlaneFrame& f)
 {
   Eigen::Vector3f n = prim.axis;
@@ -305,68 +364,27 @@ bool planeFrame(const PrimitiveInfo& prim, PlaneFrame& f)
   f.n = n;
   // In-plane principal direction from the points' 2-D covariance, so the quad follows the patch
   // (a wall strip seen by 16 rings is long and thin; a square would misdraw it).
-  f.u0 = anyPerpendicular(n);
-  f.v0 = n.cross(f.u0);
+  const Eigen::Vector3f u0 = anyPerpendicular(n), v0 = n.cross(u0);
   f.cx = prim.centroid.x();
   f.cy = prim.centroid.y();
   f.cz = prim.centroid.z();
   const Eigen::Matrix3f& c = prim.covariance;
-  const Eigen::Vector3f cu = c * f.u0, cv = c * f.v0;
-  f.cuu = f.u0.dot(cu);
-  f.cvv = f.v0.dot(cv);
-  f.cuv = f.u0.dot(cv);
+  const Eigen::Vector3f cu = c * u0, cv = c * v0;
+  const float cuu = u0.dot(cu), cvv = v0.dot(cv), cuv = u0.dot(cv);
+  // Major axis of a 2x2 covariance in closed form (no iterative solver for two dimensions).
+  const float angle = 0.5f * std::atan2(2.0f * cuv, cuu - cvv);
+  f.u = (std::cos(angle) * u0 + std::sin(angle) * v0).normalized();
+  f.v = n.cross(f.u);
   return true;
 }
 
-/// `f`: planeFrame's.
-void addPlane(const PrimitiveInfo& prim, const Points& pts, const PlaneFrame& f, const std_msgs::Header& header,
-              Slots& out)
+/// `ext`: the patch's extents (pointsOf into PlaneExtents, merged).
+void addPlane(const PrimitiveInfo& prim, const PlaneExtents& ext, const std_msgs::Header& header, Slots& out)
 {
-  const Eigen::Vector3f& n = f.n;
-  const Eigen::Vector3f& u0 = f.u0;
-  const Eigen::Vector3f& v0 = f.v0;
-  const float cuu = f.cuu, cvv = f.cvv, cuv = f.cuv;
-  // Major axis of a 2x2 covariance in closed form (no iterative solver for two dimensions).
-  const float angle = 0.5f * std::atan2(2.0f * cuv, cuu - cvv);
-  const Eigen::Vector3f u = (std::cos(angle) * u0 + std::sin(angle) * v0).normalized();
-  const Eigen::Vector3f v = n.cross(u);
-  // Extents: a minimum and a maximum do not depend on the order, so four running ones per bound,
-  // merged at the end. Each update is std::min / std::max's own test (a NaN never replaces the
-  // bound), and the bounds start at +0, which a -0 never replaces: the same bits as one pass.
-  // Four points at a time; the scalar form handles the last ones.
-  const float cx = f.cx, cy = f.cy, cz = f.cz;
-  const float* const xs = pts.x;
-  const float* const ys = pts.y;
-  const float* const zs = pts.z;
-  const std::size_t m = pts.size;
-  std::size_t k = 0;
-  Float4 umin4 = {}, umax4 = {}, vmin4 = {}, vmax4 = {};
-  for (; k + 4 <= m; k += 4)
-  {
-    const Float4 dx = load4(xs + k) - cx, dy = load4(ys + k) - cy, dz = load4(zs + k) - cz;
-    const Float4 du = dotWith(dx, dy, dz, u), dv = dotWith(dx, dy, dz, v);
-    umin4 = du < umin4 ? du : umin4;
-    umax4 = umax4 < du ? du : umax4;
-    vmin4 = dv < vmin4 ? dv : vmin4;
-    vmax4 = vmax4 < dv ? dv : vmax4;
-  }
-  float umin = 0, umax = 0, vmin = 0, vmax = 0;
-  for (int l = 0; l < 4; ++l)
-  {
-    umin = std::min(umin, umin4[l]);
-    umax = std::max(umax, umax4[l]);
-    vmin = std::min(vmin, vmin4[l]);
-    vmax = std::max(vmax, vmax4[l]);
-  }
-  for (; k < m; ++k)
-  {
-    const float dx = xs[k] - cx, dy = ys[k] - cy, dz = zs[k] - cz;
-    const float du = dotWith(dx, dy, dz, u), dv = dotWith(dx, dy, dz, v);
-    umin = std::min(umin, du);
-    umax = std::max(umax, du);
-    vmin = std::min(vmin, dv);
-    vmax = std::max(vmax, dv);
-  }
+  const Eigen::Vector3f& n = ext.f.n;
+  const Eigen::Vector3f& u = ext.f.u;
+  const Eigen::Vector3f& v = ext.f.v;
+  float umin = ext.umin, umax = ext.umax, vmin = ext.vmin, vmax = ext.vmax;
   // A single-ring patch has no extent across the ring: give it a sliver so it is still drawn.
   const float min_half = 0.02f;
   vmin = std::min(vmin, -min_half);
@@ -453,15 +471,17 @@ visualization_msgs::MarkerArrayPtr makePrimitiveMarkers(const PrimitiveSet& prim
   {
     if (prim.label == Label::Plane)
     {
-      PlaneFrame frame;
-      if (!planeFrame(prim, frame))
+      PlaneExtents extents;
+      if (!planeFrame(prim, extents.f))
         continue;
-      const Points pts = pointsOf(prims, prim, cloud, buf);
-      if (pts.size > 0)
-        addPlane(prim, pts, frame, header, out);
+      if (pointsOf(prims, prim, cloud, extents) > 0)
+      {
+        extents.merge();
+        addPlane(prim, extents, header, out);
+      }
       continue;
     }
-    const Points pts = pointsOf(prims, prim, cloud, buf);
+    const Points pts = storedPoints(prims, prim, cloud, buf);
     if (pts.size == 0)
       continue;
     switch (prim.label)
