@@ -71,25 +71,22 @@ struct PlaneFrame
   float cx, cy, cz;
 };
 
-/// Where pointsOf puts the points it keeps, in order: the scratch buffers (edges and clusters,
-/// which draw the points themselves)...
+/// Where pointsOf puts the points it keeps, in order (`m`: how many it kept before them): the
+/// scratch buffers (edges and clusters, which draw the points themselves)...
 struct StoredPoints
 {
   float *xs, *ys, *zs;
-  std::size_t m = 0;
-  void one(float x, float y, float z)
+  void one(std::size_t m, float x, float y, float z)
   {
     xs[m] = x;
     ys[m] = y;
     zs[m] = z;
-    ++m;
   }
-  void four(Float4 x, Float4 y, Float4 z)
+  void four(std::size_t m, Float4 x, Float4 y, Float4 z)
   {
     store4(xs + m, x);
     store4(ys + m, y);
     store4(zs + m, z);
-    m += 4;
   }
 };
 
@@ -104,7 +101,7 @@ struct PlaneExtents
   PlaneFrame f;
   Float4 umin4 = {}, umax4 = {}, vmin4 = {}, vmax4 = {};
   float umin = 0, umax = 0, vmin = 0, vmax = 0;
-  void one(float x, float y, float z)
+  void one(std::size_t, float x, float y, float z)
   {
     const float dx = x - f.cx, dy = y - f.cy, dz = z - f.cz;
     const float du = dotWith(dx, dy, dz, f.u), dv = dotWith(dx, dy, dz, f.v);
@@ -113,7 +110,7 @@ struct PlaneExtents
     vmin = std::min(vmin, dv);
     vmax = std::max(vmax, dv);
   }
-  void four(Float4 x, Float4 y, Float4 z)
+  void four(std::size_t, Float4 x, Float4 y, Float4 z)
   {
     const Float4 dx = x - f.cx, dy = y - f.cy, dz = z - f.cz;
     const Float4 du = dotWith(dx, dy, dz, f.u), dv = dotWith(dx, dy, dz, f.v);
@@ -158,8 +155,8 @@ std::size_t pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const
   const std::size_t step = cloud.point_step;
   const bool flat = cloud.height == 1 || cloud.row_step == static_cast<std::size_t>(cloud.width) * step;
   const std::size_t size = cloud.size(), data_size = cloud.data_size;
-  // Everything the loop reads held in locals: push_back's capacity test and reloads of the view's
-  // members per point showed in the profile (planes hold most points of a frame).
+  // Everything the loop reads held in locals: reloads of the view's members per point showed in
+  // the profile (planes hold most points of a frame).
   Keep keep = keep_out;
   std::size_t m = 0;
   const std::uint32_t* const idx = prims.indices.data();
@@ -169,7 +166,7 @@ std::size_t pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const
   const auto store = [&](float x, float y, float z) {
     if ((x - x) + (y - y) + (z - z) != 0.0f)
       return;
-    keep.one(x, y, z);
+    keep.one(m, x, y, z);
     ++m;
   };
   if (float32 && flat)
@@ -214,7 +211,7 @@ std::size_t pointsOf(const PrimitiveSet& prims, const PrimitiveInfo& prim, const
       std::memcpy(bits, &t, sizeof t);
       if ((bits[0] | bits[1]) == 0)
       {
-        keep.four(x, y, z);
+        keep.four(m, x, y, z);
         m += 4;
       }
       else
