@@ -96,6 +96,30 @@ __attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEight
   return static_cast<unsigned>(__builtin_popcount(mask));
 }
 
+// The placement's store streams (nine: index, column, azimuth, x, y, z, range at w, the grid
+// positions and states at input index i), on lines last written a frame ago
+// (ring_curvature/prefetch.hpp): each one's lines for the 16 points kWriteAhead places ahead,
+// asked for once every 16 columns. Without them the fused pass of readPlaceRowAvx512 waited on
+// its stores as well as its records: on the OS1-128 frames it moves about 100 bytes a point,
+// from and to memory (the frames, 6 MB of records each, do not stay in the caches).
+// (always_inline: a function of prefetches alone has no side effects for GCC, which then deletes
+// the calls to it)
+__attribute__((always_inline)) inline void prefetchPlacement(const OrganizedGrid& out, std::size_t i, std::size_t w)
+{
+  using detail::prefetchForWrite;
+  constexpr std::size_t A = detail::kWriteAhead;
+  prefetchForWrite(out.index, (w + A) * sizeof(std::uint32_t));
+  prefetchForWrite(out.column, (w + A) * sizeof(std::uint32_t));
+  prefetchForWrite(out.az, (w + A) * sizeof(float));
+  for (const double* d : {out.x, out.y, out.z, out.range})
+  {
+    prefetchForWrite(d, (w + A) * sizeof(double));
+    prefetchForWrite(d, (w + A + 8) * sizeof(double));
+  }
+  prefetchForWrite(out.grid_pos, (i + A) * sizeof(std::int32_t));
+  prefetchForWrite(out.state, i + A);  // (the same line four calls in a row: one instruction)
+}
+
 // One row (ring) of an organized float32 cloud from the input pass's arrays, columns [0, W)
 // from input index i0, its valid points appended at w: the placement (index, azimuth, column),
 // the gather of the coordinates, the grid positions and the sum of z / range in column order,
@@ -206,6 +230,7 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   {
     const std::size_t i = i0 + c;
     detail::prefetchRecords(row, c + detail::kRecordsAhead, 8, L.step, L.ox);  // (see readPlaceRowAvx512)
+    if ((c & 15) == 0) prefetchPlacement(out, i, w);
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
     __m256 x, y, z;
     if constexpr (kGathers)
@@ -275,6 +300,7 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
     // the records a few kilobytes ahead (past the row's end: the next row's, or nothing; a
     // prefetch never faults)
     detail::prefetchRecords(row, c + detail::kRecordsAhead, 16, L.step, L.ox);
+    prefetchPlacement(out, i, w);
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
     const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),
                  z = _mm512_i32gather_ps(vz, base, 1);
