@@ -154,7 +154,6 @@ private:
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
   SpacingMedian spacing_median_;
-  UninitializedVector<std::uint32_t> column_;  // organized: input column of each grid position
   std::vector<double> ring_sum_;       // organized: each ring's sum of elevation sines
   bool placed_ = false;                // organized: readOrganized placed this frame's points
 };

@@ -33,30 +33,27 @@ struct OrganizedInput
 };
 struct OrganizedGrid
 {
-  std::uint32_t* index;
+  std::uint32_t* index;  // (r W + column in row r: the grid keeps no columns of its own)
   float* az;
-  std::uint32_t* column;
   double *x, *y, *z, *range;
   std::int32_t* grid_pos;
   PointState* state;  // (written by the fused input pass only)
 };
 
-// Eight columns [c, c + 8) of a row, input indices [i, i + 8), onto the grid at w: their
+// Eight columns of a row, input indices [i, i + 8), onto the grid at w: their
 // coordinates, azimuths and ranges as read, `valid` the lanes to keep (all ones or zero). The
 // valid lanes are moved to the front by the compress table and stored whole (the arrays have
 // room for 8 past the end); the grid positions in input order; z / range of the valid lanes
 // added to `s` in column order, with +0 for the others (s never is -0, so s + 0 is s: the same
 // bits as adding the valid ones alone). Returns the number placed.
 __attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEightAvx2(
-    const OrganizedGrid& out, std::size_t i, std::size_t c, std::size_t w, __m256 x, __m256 y, __m256 z, __m256 az,
+    const OrganizedGrid& out, std::size_t i, std::size_t w, __m256 x, __m256 y, __m256 z, __m256 az,
     __m256d r0, __m256d r1, __m256i valid, double& s)
 {
   const auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(valid)));
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress.lane[mask]));
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.index + w),
                       _mm256_add_epi32(perm, _mm256_set1_epi32(static_cast<int>(i))));
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.column + w),
-                      _mm256_add_epi32(perm, _mm256_set1_epi32(static_cast<int>(c))));
   _mm256_storeu_ps(out.az + w, _mm256_permutevar8x32_ps(az, perm));
   const __m256 xp = _mm256_permutevar8x32_ps(x, perm), yp = _mm256_permutevar8x32_ps(y, perm);
   const __m256 zp = _mm256_permutevar8x32_ps(z, perm);
@@ -96,7 +93,7 @@ __attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEight
   return static_cast<unsigned>(__builtin_popcount(mask));
 }
 
-// The placement's store streams (nine: index, column, azimuth, x, y, z, range at w, the grid
+// The placement's store streams (eight: index, azimuth, x, y, z, range at w, the grid
 // positions and states at input index i), on lines last written a frame ago
 // (ring_curvature/prefetch.hpp): each one's lines for the 16 points kWriteAhead places ahead,
 // asked for once every 16 columns. Without them the fused pass of readPlaceRowAvx512 waited on
@@ -109,7 +106,6 @@ __attribute__((always_inline)) inline void prefetchPlacement(const OrganizedGrid
   using detail::prefetchForWrite;
   constexpr std::size_t A = detail::kWriteAhead;
   prefetchForWrite(out.index, (w + A) * sizeof(std::uint32_t));
-  prefetchForWrite(out.column, (w + A) * sizeof(std::uint32_t));
   prefetchForWrite(out.az, (w + A) * sizeof(float));
   for (const double* d : {out.x, out.y, out.z, out.range})
   {
@@ -121,7 +117,7 @@ __attribute__((always_inline)) inline void prefetchPlacement(const OrganizedGrid
 }
 
 // One row (ring) of an organized float32 cloud from the input pass's arrays, columns [0, W)
-// from input index i0, its valid points appended at w: the placement (index, azimuth, column),
+// from input index i0, its valid points appended at w: the placement (index, azimuth),
 // the gather of the coordinates, the grid positions and the sum of z / range in column order,
 // which were three passes over the frame. Returns the new w.
 __attribute__((target("avx2,popcnt"))) std::size_t placeRowAvx2(const OrganizedInput& in, const OrganizedGrid& out,
@@ -135,7 +131,7 @@ __attribute__((target("avx2,popcnt"))) std::size_t placeRowAvx2(const OrganizedI
     const std::size_t i = i0 + c;
     const __m256i valid = _mm256_cmpgt_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.ring + i)),
                                              _mm256_set1_epi32(-1));
-    w += placeEightAvx2(out, i, c, w, _mm256_loadu_ps(in.x + i), _mm256_loadu_ps(in.y + i), _mm256_loadu_ps(in.z + i),
+    w += placeEightAvx2(out, i, w, _mm256_loadu_ps(in.x + i), _mm256_loadu_ps(in.y + i), _mm256_loadu_ps(in.z + i),
                         _mm256_loadu_ps(in.az + i), _mm256_loadu_pd(in.range + i), _mm256_loadu_pd(in.range + i + 4),
                         valid, s);
   }
@@ -146,7 +142,6 @@ __attribute__((target("avx2,popcnt"))) std::size_t placeRowAvx2(const OrganizedI
     const double z = in.z[i], r = in.range[i];
     out.index[w] = static_cast<std::uint32_t>(i);
     out.az[w] = in.az[i];
-    out.column[w] = static_cast<std::uint32_t>(c);
     out.x[w] = in.x[i];
     out.y[w] = in.y[i];
     out.z[w] = z;
@@ -173,7 +168,7 @@ struct RecordLayout
 // One column of readPlaceRowAvx2, the same operations as a lane there (storePoint, fastAtan2,
 // placeRowAvx2's tail).
 inline std::size_t placeColumn(const std::uint8_t* rec, const RecordLayout& L, const OrganizedGrid& out,
-                               std::size_t i, std::size_t c, std::size_t w, double& s, std::uint32_t& largest)
+                               std::size_t i, std::size_t w, double& s, std::uint32_t& largest)
 {
   const float x = readFloat32(rec + L.ox), y = readFloat32(rec + L.oy), z = readFloat32(rec + L.oz);
   const double dx = x, dy = y, dz = z;
@@ -188,7 +183,6 @@ inline std::size_t placeColumn(const std::uint8_t* rec, const RecordLayout& L, c
   out.state[i] = ok ? PointState::OnGrid : PointState::Invalid;
   out.index[w] = static_cast<std::uint32_t>(i);
   out.az[w] = fastAtan2(y, x);
-  out.column[w] = static_cast<std::uint32_t>(c);
   out.x[w] = dx;
   out.y[w] = dy;
   out.z[w] = dz;
@@ -256,12 +250,12 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
     const __m256i s32 = _mm256_and_si256(valid, one);  // OnGrid (1) or Invalid (0) per lane
     const __m128i s16 = _mm_packs_epi32(_mm256_castsi256_si128(s32), _mm256_extracti128_si256(s32, 1));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(out.state + i), _mm_packs_epi16(s16, s16));
-    w += placeEightAvx2(out, i, c, w, x, y, z, detail::fastAtan2Avx2(y, x), r0, r1, valid, s);
+    w += placeEightAvx2(out, i, w, x, y, z, detail::fastAtan2Avx2(y, x), r0, r1, valid, s);
   }
   alignas(32) std::uint32_t l[8];
   _mm256_store_si256(reinterpret_cast<__m256i*>(l), most);
   for (const std::uint32_t v : l) largest = std::max(largest, v);
-  for (; c < W; ++c) w = placeColumn(row + c * L.step, L, out, i0 + c, c, w, s, largest);
+  for (; c < W; ++c) w = placeColumn(row + c * L.step, L, out, i0 + c, w, s, largest);
   sum = s;
   return w;
 }
@@ -318,9 +312,7 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
                      _mm512_cvtepi32_epi8(_mm512_maskz_mov_epi32(valid, one)));
     // the valid lanes moved to the front, stored whole
     const __m512i index = _mm512_add_epi32(iota, _mm512_set1_epi32(static_cast<int>(i)));
-    const __m512i column = _mm512_add_epi32(iota, _mm512_set1_epi32(static_cast<int>(c)));
     _mm512_storeu_si512(out.index + w, _mm512_maskz_compress_epi32(valid, index));
-    _mm512_storeu_si512(out.column + w, _mm512_maskz_compress_epi32(valid, column));
     _mm512_storeu_ps(out.az + w, _mm512_maskz_compress_ps(valid, detail::fastAtan2Avx512(y, x)));
     compressWiden(valid, x, out.x + w);
     compressWiden(valid, y, out.y + w);
@@ -366,11 +358,10 @@ bool ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
     const std::size_t room = R * W + 8;  // the vector stores write up to 8 past the last point
     tmp_index_.resize(room);
     sorted_az_.resize(room);
-    column_.resize(room);
     for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->resize(room);
     ring_sum_.assign(R, 0.0);
     const OrganizedInput in{ring_of_.data(), paz_.data(), px_.data(), py_.data(), pz_.data(), prange_.data()};
-    const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), column_.data(), grid.x.data(),
+    const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), grid.x.data(),
                             grid.y.data(),     grid.z.data(),     grid.range.data(), grid.grid_pos.data(), nullptr};
     std::size_t w = 0;
     for (std::size_t r = 0; r < R; ++r)
@@ -380,7 +371,6 @@ bool ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
     }
     tmp_index_.resize(w);
     sorted_az_.resize(w);
-    column_.resize(w);
     return true;
   }
 #endif
@@ -388,10 +378,8 @@ bool ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
   // per point): every point is written at w, only valid ones advance it.
   tmp_index_.resize(R * W + 1);
   sorted_az_.resize(R * W + 1);
-  column_.resize(R * W + 1);
   std::uint32_t* const index = tmp_index_.data();
   float* const az = sorted_az_.data();
-  std::uint32_t* const column = column_.data();
   const std::int32_t* const ring = ring_of_.data();
   std::size_t w = 0;
   for (std::size_t r = 0; r < R; ++r)
@@ -401,14 +389,12 @@ bool ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
       const std::size_t i = r * W + c;
       index[w] = static_cast<std::uint32_t>(i);
       az[w] = paz_[i];
-      column[w] = static_cast<std::uint32_t>(c);
       w += ring[i] >= 0 ? 1 : 0;
     }
     grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
   }
   tmp_index_.resize(w);
   sorted_az_.resize(w);
-  column_.resize(w);
   return false;
 }
 
@@ -431,7 +417,6 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   const std::size_t room = n + 16;  // the vector stores write up to 16 past the last point
   tmp_index_.resize(room);
   sorted_az_.resize(room);
-  column_.resize(room);
   for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->resize(room);
   ring_sum_.assign(R, 0.0);
   grid.ring_begin.assign(R + 1, 0);
@@ -439,7 +424,7 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   const RecordLayout layout{view.point_step, offset(view.x), offset(view.y), offset(view.z),
                             view.ring.present() ? static_cast<std::int32_t>(view.ring.offset) : -1,
                             params.min_range, params.max_range};
-  const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), column_.data(), grid.x.data(),
+  const OrganizedGrid out{tmp_index_.data(), sorted_az_.data(), grid.x.data(),
                           grid.y.data(),     grid.z.data(),     grid.range.data(), grid.grid_pos.data(),
                           grid.state.data()};
   std::size_t w = 0;
@@ -461,7 +446,6 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   grid.state.resize(n);
   tmp_index_.resize(w);
   sorted_az_.resize(w);
-  column_.resize(w);
   return true;
 #else
   (void)view;

@@ -25,16 +25,18 @@ namespace
 constexpr float kDeg = kPi / 180.0f;
 
 // The spacings |wrapPi(az[p] - az[p - 1])| of a ring (b, e) to out[0, e - b - 1); organized
-// clouds per column between the two samples.
+// clouds per column between the two samples (columnSpacings).
 RC_SIMD_CLONES void azimuthSpacings(std::size_t b, std::size_t e, const float* __restrict az, float* __restrict out)
 {
   for (std::size_t p = b + 1; p < e; ++p) out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1]));
 }
+// `index`: the input indices; in a row of an organized cloud two samples' columns differ by as
+// much as their indices.
 RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __restrict az,
-                                   const std::uint32_t* __restrict column, float* __restrict out)
+                                   const std::uint32_t* __restrict index, float* __restrict out)
 {
   for (std::size_t p = b + 1; p < e; ++p)
-    out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(column[p] - column[p - 1]);
+    out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(index[p] - index[p - 1]);
 }
 
 // Whether a spacing counts: same-firing duplicates (near 0) and gaps (> 5 deg) do not.
@@ -210,7 +212,7 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     largest = std::max(largest, e - b);
     if (e - b < 2) continue;
     if (grid.organized)
-      columnSpacings(b, e, az, column_.data(), d + total);
+      columnSpacings(b, e, az, tmp_index_.data(), d + total);
     else
       azimuthSpacings(b, e, az, d + total);
     total += e - b - 1;

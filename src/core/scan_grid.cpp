@@ -185,10 +185,11 @@ RC_SIMD_CLONES void linkAzimuths(std::size_t b, std::size_t e, const float* __re
 {
   for (std::size_t p = b + 1; p < e; ++p) linked[p] = az[p] - az[p - 1] <= max_step ? 1 : 0;
 }
-RC_SIMD_CLONES void linkColumns(std::size_t b, std::size_t e, const std::uint32_t* __restrict column,
+// (`index`: the input indices, whose differences in a row of an organized cloud are its columns')
+RC_SIMD_CLONES void linkColumns(std::size_t b, std::size_t e, const std::uint32_t* __restrict index,
                                 std::uint32_t max_cols, std::uint8_t* __restrict linked)
 {
-  for (std::size_t p = b + 1; p < e; ++p) linked[p] = column[p] - column[p - 1] <= max_cols ? 1 : 0;
+  for (std::size_t p = b + 1; p < e; ++p) linked[p] = index[p] - index[p - 1] <= max_cols ? 1 : 0;
 }
 
 // The input indices i in [i0, n) with state[i] == Duplicate, ascending, to out; returns how many.
@@ -468,7 +469,7 @@ void ScanGridBuilder::linkRings(const Params& params, ScanGrid& grid)
       continue;
     }
     if (grid.organized)
-      linkColumns(b, e, column_.data(), max_cols, linked);
+      linkColumns(b, e, grid.index.data(), max_cols, linked);
     else
       linkAzimuths(b, e, grid.azimuth.data(), max_step, linked);
     // The seam: the last sample connects to the first when the ring covers the full circle.
@@ -477,7 +478,9 @@ void ScanGridBuilder::linkRings(const Params& params, ScanGrid& grid)
     {
       const float sweep = static_cast<float>(grid.num_input / static_cast<std::size_t>(grid.num_rings)) * grid.azimuth_resolution;
       const std::uint32_t width = static_cast<std::uint32_t>(grid.num_input / static_cast<std::size_t>(grid.num_rings));
-      closed = std::fabs(sweep - kTwoPi) < 0.05f * kTwoPi && column_[b] + width - column_[e - 1] <= max_cols;
+      // (the input indices' difference is the columns': the same row)
+      const std::uint32_t across = grid.index[b] + width - grid.index[e - 1];
+      closed = std::fabs(sweep - kTwoPi) < 0.05f * kTwoPi && across <= max_cols;
     }
     else
     {

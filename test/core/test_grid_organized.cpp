@@ -124,3 +124,109 @@ TEST(OrganizedGrid, RingFieldOutOfRangeNamesThePoint)
     EXPECT_GT(p.grid().size(), 8u * 64u);
   }
 }
+
+// An organized row's links go by columns: a sample links to the one before it in its row when
+// at most max_gap_samples columns between them are missing, and the row closes across the seam
+// on the same rule; the azimuth resolution is the spacing per column, whatever the gaps. Gaps
+// of one to four columns inside rows and at their ends, on both input paths (float32: the one
+// pass; float64: the generic one).
+TEST(OrganizedGrid, LinksGoByColumnsAcrossGaps)
+{
+  const int rows = 8;
+  const std::size_t W = 256;
+  Params params;
+  ASSERT_EQ(params.max_gap_samples, 2);
+  const auto missing = [](int row, std::size_t c) {
+    if (row == 1) return c == 10 || c == 20 || c == 21 || (c >= 30 && c < 33) || (c >= 40 && c < 44);
+    if (row == 2) return c < 2;                // the seam: 2 + 256 - 255 = 3 columns apart, closed
+    if (row == 3) return c < 3;                // 4 apart: open
+    if (row == 4) return c >= 253;             // 0 + 256 - 252 = 4 apart: open
+    if (row == 5) return (c * 7) % 11 == 3;    // scattered single gaps
+    return false;
+  };
+  SyntheticCloud f32{false}, f64{true};
+  for (int row = 0; row < rows; ++row)
+    for (std::size_t c = 0; c < W; ++c)
+    {
+      const int ring = rows - 1 - row;
+      if (missing(row, c))
+      {
+        f32.addNaN(ring);
+        f64.addNaN(ring);
+        continue;
+      }
+      // clockwise, as the sensors sweep, a column's azimuth whatever the gaps
+      const double az = 3.0 - 2 * 3.14159265358979 * static_cast<double>(c) / static_cast<double>(W);
+      const double el = -0.2 + 0.05 * ring, r = 5.0 + 0.5 * std::sin(4 * az);
+      const double x = r * std::cos(el) * std::cos(az), y = r * std::cos(el) * std::sin(az), z = r * std::sin(el);
+      f32.add(x, y, z, ring);
+      f64.add(x, y, z, ring);
+    }
+  for (const SyntheticCloud* cloud : {&f32, &f64})
+  {
+    Pipeline p(params);
+    FrameResult res;
+    ASSERT_TRUE(p.process(cloud->view(rows), res).ok);
+    const ScanGrid& g = p.grid();
+    ASSERT_TRUE(g.organized);
+    ASSERT_EQ(g.num_rings, rows);
+    EXPECT_NEAR(g.azimuth_resolution, 2 * 3.14159265358979 / W, 1e-5);
+    const auto max_cols = static_cast<std::size_t>(params.max_gap_samples) + 1;
+    std::size_t unlinked = 0;
+    for (int n = 0; n < rows; ++n)
+    {
+      const auto ring = static_cast<std::size_t>(n);
+      const std::uint32_t b = g.ring_begin[ring], e = g.ring_begin[ring + 1];
+      ASSERT_GT(e - b, 3u);
+      for (std::uint32_t q = b + 1; q < e; ++q)
+      {
+        const std::size_t c0 = g.index[q - 1] % W, c1 = g.index[q] % W;
+        ASSERT_EQ(g.index[q] / W, static_cast<std::size_t>(n));
+        EXPECT_EQ(g.linked[q] != 0, c1 - c0 <= max_cols) << "row " << n << " column " << c1;
+        unlinked += g.linked[q] == 0 ? 1 : 0;
+      }
+      const std::size_t first = g.index[b] % W, last = g.index[e - 1] % W;
+      const bool closed = first + W - last <= max_cols;
+      EXPECT_EQ(g.ring_closed[ring] != 0, closed) << "row " << n;
+      EXPECT_EQ(g.linked[b] != 0, closed) << "row " << n;
+    }
+    EXPECT_EQ(unlinked, 2u);  // row 1's gaps of three and four columns
+    EXPECT_TRUE(g.ring_closed[2] && !g.ring_closed[3] && !g.ring_closed[4] && g.ring_closed[5]);
+  }
+}
+
+// Every other column missing in every row (a sensor's low-bandwidth mode, or a decimating
+// driver): the resolution is still the spacing of one column, and every sample links to the one
+// two columns before it.
+TEST(OrganizedGrid, ResolutionIsPerColumnWithEveryOtherColumnMissing)
+{
+  const int rows = 4;
+  const std::size_t W = 128;
+  for (const bool float64 : {false, true})
+  {
+    SyntheticCloud cloud{float64};
+    for (int row = 0; row < rows; ++row)
+      for (std::size_t c = 0; c < W; ++c)
+      {
+        if (c % 2 == 1)
+        {
+          cloud.addNaN(rows - 1 - row);
+          continue;
+        }
+        const double az = 3.0 - 2 * 3.14159265358979 * static_cast<double>(c) / static_cast<double>(W);
+        cloud.add(6.0 * std::cos(az), 6.0 * std::sin(az), -0.5 + 0.2 * row, rows - 1 - row);
+      }
+    Pipeline p;
+    FrameResult res;
+    ASSERT_TRUE(p.process(cloud.view(rows), res).ok);
+    const ScanGrid& g = p.grid();
+    EXPECT_NEAR(g.azimuth_resolution, 2 * 3.14159265358979 / W, 1e-5) << (float64 ? "float64" : "float32");
+    for (int n = 0; n < rows; ++n)
+    {
+      const auto ring = static_cast<std::size_t>(n);
+      const std::uint32_t b = g.ring_begin[ring], e = g.ring_begin[ring + 1];
+      ASSERT_EQ(e - b, W / 2);
+      for (std::uint32_t q = b + 1; q < e; ++q) EXPECT_EQ(g.linked[q], 1u) << "row " << n << " position " << q;
+    }
+  }
+}
