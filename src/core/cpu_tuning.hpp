@@ -4,7 +4,7 @@
 // Gathers and masked stores. Some AVX2 forms lean on instructions that every AVX2 CPU has but
 // not every one runs fast: the gathers (vpgatherdd, vgatherdps) and the masked loads and stores
 // (vpmaskmovd). On Intel cores since Haswell they are a few micro-ops each, and the forms built
-// on them were measured faster than the plain loops (docs/benchmark.md, sessions 5 to 10). On
+// on them were measured faster than the plain loops (docs/benchmark_history.md, sessions 5 to 10). On
 // AMD Zen they are microcoded: on Zen 3 (session 11's host; in-process A/B against the forms
 // with them) the primitives stage took 0.84-0.88 of its time without the index fill's masked
 // stores, and the output stage in groups of eight (pipeline.cpp) 0.87-0.90 of the gathers' time

@@ -4,7 +4,7 @@
 // three candidates out of range, the label, the azimuth, the end of the stretch it skips. Those
 // outcomes are data (walls and ground alternate along a ring), and mispredicted branches were the
 // likely cost: the loop took 12 % of the benchmark's samples on KITTI and OS1-128 frames, and
-// testing its idle stretches alone eight at a time gained nothing (docs/benchmark.md). Here every
+// testing its idle stretches alone eight at a time gained nothing (docs/benchmark_history.md). Here every
 // position is tested, without a branch: eight positions a vector, their candidates above taken
 // by permutes from a window of sixteen samples (the nearest sample above moves along the ring
 // with the position), and only where the pair of runs changes is an entry written for the
