@@ -1,9 +1,9 @@
 // The output stage: every input point's label, features and primitive are its grid position's,
-// bit for bit, and the points off the grid get none. The stage runs sixteen points at a time on
-// AVX-512, eight on AVX2 and one at a time for the rest, and on AMD CPUs in groups of eight that
-// are all on the grid, all off it or mixed, so the frame mixes every state within most groups,
-// has stretches of groups with every point off the grid and groups with all on it, and ends off
-// a multiple of sixteen.
+// bit for bit, and the points off the grid get none. The stage runs eight points at a time with
+// AVX2's gathers (also on AVX-512 CPUs: its sixteen-lane forms were slower) and one at a time for
+// the rest, and on AMD CPUs in groups of eight that are all on the grid, all off it or mixed, so
+// the frame mixes every state within most groups, has stretches of groups with every point off
+// the grid and groups with all on it, and ends off a multiple of sixteen.
 #include <gtest/gtest.h>
 
 #include <cmath>
