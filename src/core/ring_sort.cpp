@@ -2,6 +2,7 @@
 // ring an insertion sort of the nearly sorted firing order (a bucket sort when it is not).
 // Identical dual returns are folded on the way and given their twin's verdict afterwards.
 #include "ring_curvature/scan_grid.hpp"
+#include "ring_curvature/prefetch.hpp"
 
 #include "angles.hpp"
 #include "grow.hpp"
@@ -347,6 +348,7 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
   std::uint32_t* __restrict const next = bin_start_.data();
   std::uint64_t* __restrict const unsorted = keys_tmp_.data();
   constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
+  constexpr std::size_t kScatterAhead = 32;  // keys (four lines); 16 gained a little less
   alignas(64) std::uint64_t keys[kBlock];  // (64: whole cache lines for the AVX-512 stores)
 #if defined(RC_SIMD_CLONES_ON)
   const bool avx512 = detail::avx512Forms();
@@ -361,6 +363,11 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
     {
       const std::int32_t r = ring_of[i0 + j];
       if (r < 0) continue;
+      // Each ring's slots are a store stream of their own, sixteen to 64 of them interleaved
+      // point by point, more than the hardware's stream prefetch follows, and their lines were
+      // last written a frame ago: the line kScatterAhead keys ahead of this ring's cursor is
+      // asked for (one prefetch a key, most of them to a line already asked for).
+      detail::prefetchForWrite(unsorted, (std::size_t{next[r]} + kScatterAhead) * sizeof *unsorted);
       unsorted[next[r]++] = keys[j];
     }
   }
