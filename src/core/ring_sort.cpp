@@ -157,7 +157,6 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   grid.ring_begin.assign(R + 1, 0);
   for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
   std::size_t m = grid.ring_begin[R];
-  keys_.resize(m);
   keys_tmp_.resize(m);
   bin_start_.resize(R + 1);
   std::uint32_t* const next = bin_start_.data();
@@ -320,21 +319,31 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    depends neither on the order the points came in nor on which sort finishes the ring.
   //    The rings close up over the folded points as they are sorted.
   //    (The kept counts are taken first: sortRing's bucket sort reuses bin_start_, i.e. next.)
+  //    Each ring is sorted into a buffer of one ring's keys and split into the grid's input
+  //    indices and azimuths right away, while its keys are in L1: sorted into one array of the
+  //    frame's keys and split after the last ring, the split read them all back from memory.
   ring_kept_.resize(R);
-  for (std::size_t r = 0; r < R; ++r) ring_kept_[r] = next[r] - grid.ring_begin[r];
+  std::uint32_t largest = 0;
+  m = 0;
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    ring_kept_[r] = next[r] - grid.ring_begin[r];
+    largest = std::max(largest, ring_kept_[r]);
+    m += ring_kept_[r];
+  }
+  keys_.resize(largest);
+  tmp_index_.resize(m);
+  sorted_az_.resize(m);
   std::uint32_t kept = 0;
   for (std::size_t r = 0; r < R; ++r)
   {
     const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];  // (before ring r's entry is rewritten)
     grid.ring_begin[r] = kept;
-    sortRing(unsorted + b, keys_.data() + kept, k);
+    sortRing(unsorted + b, keys_.data(), k);
+    splitKeys(k, keys_.data(), tmp_index_.data() + kept, sorted_az_.data() + kept);
     kept += k;
   }
   grid.ring_begin[R] = kept;
-  m = kept;
-  tmp_index_.resize(m);
-  sorted_az_.resize(m);
-  splitKeys(m, keys_.data(), tmp_index_.data(), sorted_az_.data());
 }
 
 void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
