@@ -8,6 +8,7 @@
 #pragma once
 
 #include "angles.hpp"
+#include "ring_curvature/prefetch.hpp"
 #include "simd_clones.hpp"
 
 #include <cstddef>
@@ -51,6 +52,11 @@ __attribute__((target("avx512f"))) inline std::size_t sortKeysAvx512(const float
   std::size_t j = 0;
   for (; j + 16 <= len; j += 16)
   {
+    // The two lines kWriteAhead keys ahead asked for (prefetch.hpp): rings one after another
+    // (KITTI) write the frame's keys here in one stream, to lines last written a frame ago.
+    // (Blocks of the interleaved scatter go to a buffer on the stack: two prefetches wasted.)
+    prefetchForWrite(key, (j + kWriteAhead) * sizeof *key);
+    prefetchForWrite(key, (j + kWriteAhead + 8) * sizeof *key);
     const __m512i u = _mm512_castps_si512(_mm512_add_ps(_mm512_loadu_ps(az + j), _mm512_setzero_ps()));
     const __m512i k = _mm512_xor_si512(u, _mm512_or_si512(_mm512_srai_epi32(u, 31), sign));  // orderedKey
     _mm512_storeu_si512(key + j, _mm512_permutex2var_epi32(idx, lo, k));
