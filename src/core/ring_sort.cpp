@@ -340,7 +340,12 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];  // (before ring r's entry is rewritten)
     grid.ring_begin[r] = kept;
     sortRing(unsorted + b, keys_.data(), k);
-    splitKeys(k, keys_.data(), tmp_index_.data() + kept, sorted_az_.data() + kept);
+    std::size_t split = 0;
+#if defined(RC_SIMD_CLONES_ON)
+    if (detail::avx512Forms())
+      split = detail::splitKeysAvx512(k, keys_.data(), tmp_index_.data() + kept, sorted_az_.data() + kept);
+#endif
+    splitKeys(k - split, keys_.data() + split, tmp_index_.data() + kept + split, sorted_az_.data() + kept + split);
     kept += k;
   }
   grid.ring_begin[R] = kept;

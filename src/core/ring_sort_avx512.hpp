@@ -38,6 +38,26 @@ __attribute__((target("avx512f"))) inline __m512i keyTopsAvx512(const std::uint6
   return _mm512_permutex2var_epi32(a, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), b);
 }
 
+// splitKeys sixteen keys at a time: index[p] = the key's low half, az[p] = its azimuth (the
+// same bits as keyAzimuth). Returns the keys done (whole groups of sixteen). The split writes the
+// frame's grid order a ring at a time, to lines last written a frame ago: the lines kWriteAhead
+// keys ahead of both stores are asked for.
+__attribute__((target("avx512f"))) inline std::size_t splitKeysAvx512(std::size_t m, const std::uint64_t* keys,
+                                                                      std::uint32_t* index, float* az)
+{
+  const __m512i lows = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+  std::size_t p = 0;
+  for (; p + 16 <= m; p += 16)
+  {
+    prefetchForWrite(index, (p + kWriteAhead) * sizeof *index);
+    prefetchForWrite(az, (p + kWriteAhead) * sizeof *az);
+    const __m512i a = _mm512_loadu_si512(keys + p), b = _mm512_loadu_si512(keys + p + 8);
+    _mm512_storeu_si512(index + p, _mm512_permutex2var_epi32(a, lows, b));
+    _mm512_storeu_si512(az + p, keyAzimuthBitsAvx512(keyTopsAvx512(keys + p)));
+  }
+  return p;
+}
+
 // sortKeys sixteen points at a time: key[j] = (orderedKey(az[j] + 0), i0 + j). Returns the
 // points done (whole groups of sixteen).
 __attribute__((target("avx512f"))) inline std::size_t sortKeysAvx512(const float* az, std::size_t i0, std::size_t len,
