@@ -272,7 +272,13 @@ __attribute__((target("avx512f"), always_inline)) inline void compressWiden(__mm
 // lane by lane the same operations (input_avx512.hpp), so the same bits. The mask registers
 // make the compaction a compress into a register and a full store (the arrays have room for 16
 // past the end; compress-store to memory is slow on some Intel cores), and the grid positions
-// an expand of w, w + 1, ... into the valid lanes. Returns the new w.
+// an expand of w, w + 1, ... into the valid lanes. kNext32 (next32Layout: x, y, z one run of
+// floats and the ring in the 32 bytes from x, as Ouster's and velodyne's records): each record's
+// 32 bytes in one load (loadXyzNext32Avx512) instead of four gathers of sixteen, which on Zen 4
+// took the organized grid 1.06 of the AVX2 loads' time (docs/benchmark.md, session 21); the
+// caller leaves the data's last record to the columns after (its 32 bytes could pass the end).
+// Returns the new w.
+template <bool kNext32>
 __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uint8_t* row, const RecordLayout& L,
                                                                     const OrganizedGrid& out, std::size_t i0,
                                                                     std::size_t vector_cols, std::size_t w,
@@ -286,6 +292,10 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
   const __m512i vr = _mm512_add_epi32(lanes, _mm512_set1_epi32(std::max(L.oring, 0)));
   const __m512d lo = _mm512_set1_pd(L.rmin), hi = _mm512_set1_pd(L.rmax);
   const __m512i one = _mm512_set1_epi32(static_cast<int>(PointState::OnGrid)), none = _mm512_set1_epi32(-1);
+  // (kNext32: the ring's word among the 32 bytes, and its bits' place in the word)
+  const auto ring_at = static_cast<std::uint32_t>(std::max(L.oring, 0)) - L.ox;
+  const __m512i pick = detail::next32PickAvx512(static_cast<int>(ring_at / 4));
+  const __m128i ring_shift = _mm_cvtsi32_si128(static_cast<int>(ring_at % 4 * 8));
   __m512i most = _mm512_setzero_si512();
   double s = sum;
   for (std::size_t c = 0; c < vector_cols; c += 16)
@@ -296,8 +306,17 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
     detail::prefetchRecords(row, c + detail::kRecordsAhead, 16, L.step, L.ox);
     prefetchPlacement(out, i, w);
     const auto* const base = reinterpret_cast<const float*>(row + c * L.step);
-    const __m512 x = _mm512_i32gather_ps(vx, base, 1), y = _mm512_i32gather_ps(vy, base, 1),
-                 z = _mm512_i32gather_ps(vz, base, 1);
+    __m512 x, y, z;
+    __m512i bits;  // (kNext32: the 32 bits holding the ring)
+    if constexpr (kNext32)
+      detail::loadXyzNext32Avx512(row + c * L.step + L.ox, L.step, pick, x, y, z, bits);
+    else
+    {
+      x = _mm512_i32gather_ps(vx, base, 1);
+      y = _mm512_i32gather_ps(vy, base, 1);
+      z = _mm512_i32gather_ps(vz, base, 1);
+      bits = L.oring >= 0 ? _mm512_i32gather_epi32(vr, base, 1) : _mm512_setzero_si512();
+    }
     const __m256 z1 = _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(z), 1));
     const __m512d r0 = detail::range8Avx512(_mm512_castps512_ps256(x), _mm512_castps512_ps256(y),
                                             _mm512_castps512_ps256(z));
@@ -306,7 +325,10 @@ __attribute__((target("avx512f"))) std::size_t readPlaceRowAvx512(const std::uin
     const __mmask8 v0 = detail::valid8Avx512(r0, lo, hi), v1 = detail::valid8Avx512(r1, lo, hi);
     const auto valid = static_cast<__mmask16>(v0 | (static_cast<unsigned>(v1) << 8));
     if (L.oring >= 0)
-      most = _mm512_max_epu32(most, _mm512_and_si512(_mm512_i32gather_epi32(vr, base, 1), _mm512_set1_epi32(0xFFFF)));
+    {
+      if constexpr (kNext32) bits = _mm512_srl_epi32(bits, ring_shift);
+      most = _mm512_max_epu32(most, _mm512_and_si512(bits, _mm512_set1_epi32(0xFFFF)));
+    }
     // OnGrid (1) or Invalid (0) per lane, narrowed to bytes
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out.state + i),
                      _mm512_cvtepi32_epi8(_mm512_maskz_mov_epi32(valid, one)));
@@ -432,6 +454,12 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
   const bool wide = detail::avx512Forms();
   const bool gathers = detail::inputGathers(layout.ox, layout.oy, layout.oz);
   const auto readRow = gathers ? readPlaceRowAvx2<true> : readPlaceRowAvx2<false>;
+  // (plain loads on every profile, as the unorganized pass: on the Intel host of session 19
+  // 0.994-0.999 of the gathers' grid time, on Zen 4 0.94; docs/benchmark.md)
+  const auto readRowWide = detail::next32Layout(layout.ox, layout.oy, layout.oz, static_cast<std::size_t>(layout.oring),
+                                                layout.oring >= 0)
+                               ? readPlaceRowAvx512<true>
+                               : readPlaceRowAvx512<false>;
   for (std::size_t r = 0; r < R; ++r)
   {
     // (the last record's 32-bit ring read, or its 16 bytes from x, could pass the end of the
@@ -439,7 +467,7 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
     const std::size_t cols = r + 1 < R || (layout.oring < 0 && gathers) ? W : W - 1;
     const std::size_t wide_cols = wide ? cols / 16 * 16 : 0;
     const std::uint8_t* const row = view.data + r * view.row_step;
-    if (wide_cols > 0) w = readPlaceRowAvx512(row, layout, out, r * W, wide_cols, w, ring_sum_[r], largest);
+    if (wide_cols > 0) w = readRowWide(row, layout, out, r * W, wide_cols, w, ring_sum_[r], largest);
     w = readRow(row, layout, out, r * W, W, wide_cols, cols / 8 * 8, w, ring_sum_[r], largest);
     grid.ring_begin[r + 1] = static_cast<std::uint32_t>(w);
   }
