@@ -80,7 +80,8 @@ void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
 // 0's if it has none, and keeps them or the unlabelled values by selection: there gatherOutput's
 // branch mispredicted. The floats are selected as their bits, so that the compiler selects
 // rather than branches. grid_size > 0.
-void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
+__attribute__((always_inline)) inline void gatherOutputGroups(const OutputArrays& o, std::size_t i0,
+                                                              std::size_t i1)
 {
   const std::uint32_t nan_bits = 0x7fc00000u;  // std::numeric_limits<float>::quiet_NaN()
   const auto* const curvature = reinterpret_cast<const std::uint32_t*>(o.curvature);
@@ -147,6 +148,102 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
 }
 
 #if defined(RC_SIMD_CLONES_ON)
+RC_AVX512_BEGIN
+// Points [i, i + 16): `on` the lanes on the grid (OnGrid 1 or Duplicate 2: state - 1 <= 1,
+// unsigned), p0 the first one's position; true where they hold p0, p0 + 1, ... in turn (a run).
+__attribute__((target("avx512f,avx512bw,avx512vl"), always_inline)) inline bool isRun(const std::uint8_t* state,
+                                                                                      const std::int32_t* grid_pos,
+                                                                                      std::size_t i, __mmask16& on,
+                                                                                      std::int32_t& p0)
+{
+  const __m128i one = _mm_set1_epi8(1);
+  on = _mm_cmple_epu8_mask(_mm_sub_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(state + i)), one), one);
+  p0 = 0;
+  if (on == 0) return true;
+  p0 = grid_pos[i + static_cast<std::size_t>(__builtin_ctz(on))];
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i run = _mm512_maskz_expand_epi32(on, _mm512_add_epi32(iota, _mm512_set1_epi32(p0)));
+  return _mm512_mask_cmpneq_epi32_mask(on, _mm512_loadu_si512(grid_pos + i), run) == 0;
+}
+
+// Whether a frame's output goes by runs (gatherOutputRunsAvx512): three in four of its first
+// kRunsProbes groups are runs (organized rows, rings one after another). Interleaved rings (the
+// VLP-16's, HDL-32E's) have none, and their frames go to gatherOutputGroups whole.
+constexpr std::size_t kRunsProbes = 16, kRunsFallback = 64;
+__attribute__((target("avx512f,avx512bw,avx512vl"))) bool outputByRuns(const OutputArrays& o, std::size_t n)
+{
+  const auto* const state = reinterpret_cast<const std::uint8_t*>(o.state);
+  std::size_t runs = 0, k = 0;
+  for (; k < kRunsProbes && 16 * k + 16 <= n; ++k)
+  {
+    __mmask16 on;
+    std::int32_t p0;
+    runs += isRun(state, o.grid_pos, 16 * k, on, p0) ? 1u : 0u;
+  }
+  return k == kRunsProbes && runs * 4 >= kRunsProbes * 3;
+}
+
+// gatherOutputGroups out of line and compiled for any CPU, for gatherOutputRunsAvx512's groups
+// that are not runs. (Inlined there, it was compiled for AVX-512 and took 1.4 of its time on the
+// VLP-16 dual-return frames; a second call site in Pipeline::process took it out of line there,
+// 1.07-1.13, hence always_inline and this one out-of-line copy.)
+__attribute__((noinline)) void gatherOutputGroupsApart(const OutputArrays& o, std::size_t i0, std::size_t i1)
+{
+  gatherOutputGroups(o, i0, i1);
+}
+
+// gatherOutputGroups on AVX-512 CPUs of the AMD profile (Zen 4, where the gathers still lose to
+// the plain loops, cpu_tuning.hpp), sixteen points a group: where a group is a run (an organized
+// cloud's rows, whose valid columns take the next positions in turn; clouds whose rings come one
+// after another, as KITTI's), each array's entries are read from p0 in one masked load and
+// expanded into the lanes on the grid, the others getting the unlabelled values (a group all off
+// the grid stores those alone). A group that is not a run (a duplicate shares its
+// representative's position; a ring's end, azimuths out of order) hands the next kRunsFallback
+// points to gatherOutputGroups (KITTI: one group in thirty), then runs again. On the Zen 4 host
+// of session 21 the stage took 0.43 of gatherOutputGroups' time on OS1-128 frames, 0.70 on KITTI
+// ones (docs/benchmark.md). grid_size > 0.
+__attribute__((target("avx512f,avx512bw,avx512vl"))) void gatherOutputRunsAvx512(const OutputArrays& o, std::size_t n)
+{
+  const __m512 nan = _mm512_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  const __m512i none = _mm512_set1_epi32(-1);
+  // (locals: through `o`, every pointer was reloaded after each store)
+  const auto* const state = reinterpret_cast<const std::uint8_t*>(o.state);
+  const std::int32_t* const grid_pos = o.grid_pos;
+  const std::uint8_t* const label = o.label;
+  const float *const curvature = o.curvature, *const smoothness = o.smoothness, *const discontinuity = o.discontinuity;
+  const std::int32_t* const primitive = o.primitive;
+  std::uint8_t* const out_label = o.out_label;
+  float *const out_c = o.out_curvature, *const out_s = o.out_smoothness, *const out_d = o.out_discontinuity;
+  std::int32_t* const out_p = o.out_primitive;
+  std::size_t i = 0;
+  while (i + 16 <= n)
+  {
+    __mmask16 on;
+    std::int32_t p0;
+    if (!isRun(state, grid_pos, i, on, p0))
+    {
+      const std::size_t to = std::min(n, i + kRunsFallback);
+      gatherOutputGroupsApart(o, i, to);
+      i = to;
+      continue;
+    }
+    // the run's entries in the low lanes, expanded into the lanes on the grid; the masked loads
+    // read nothing past the run's last entry
+    const auto take = static_cast<__mmask16>((1u << __builtin_popcount(on)) - 1u);
+    const auto q = static_cast<std::size_t>(p0);
+    _mm512_storeu_ps(out_c + i, _mm512_mask_expand_ps(nan, on, _mm512_maskz_loadu_ps(take, curvature + q)));
+    _mm512_storeu_ps(out_s + i, _mm512_mask_expand_ps(nan, on, _mm512_maskz_loadu_ps(take, smoothness + q)));
+    _mm512_storeu_ps(out_d + i, _mm512_mask_expand_ps(nan, on, _mm512_maskz_loadu_ps(take, discontinuity + q)));
+    _mm512_storeu_si512(out_p + i, _mm512_mask_expand_epi32(none, on, _mm512_maskz_loadu_epi32(take, primitive + q)));
+    // None is 0: the lanes off the grid get the zero the expand puts there
+    const __m512i l = _mm512_cvtepu8_epi32(_mm_maskz_loadu_epi8(take, label + q));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out_label + i), _mm512_cvtepi32_epi8(_mm512_maskz_expand_epi32(on, l)));
+    i += 16;
+  }
+  gatherOutputGroupsApart(o, i, n);
+}
+RC_AVX512_END
+
 // gatherOutput eight points at a time with AVX2's masked gathers (the compiler emits none for
 // the plain loop): the scalar loop spent ~20 instructions a point, most of them loads and stores
 // one value at a time and reloads of pointers it had no registers for. A label is gathered as
@@ -282,10 +379,19 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
                        out.discontinuity.data(), out.primitive.data()};
   std::size_t done = 0;
   const bool gathers = detail::avx2Gathers();  // (not on AMD, cpu_tuning.hpp: there gatherOutputGroups)
+  bool runs = false;  // by runs where they pay (gatherOutputRunsAvx512: AMD profile, AVX-512)
 #if defined(RC_SIMD_CLONES_ON)
   if (gathers) done = gatherOutputAvx2(o, n, grid_.size());
+  runs = !gathers && grid_.size() > 0 && detail::avx512Forms() && __builtin_cpu_supports("avx512bw") &&
+         __builtin_cpu_supports("avx512vl") && outputByRuns(o, n);
 #endif
-  if (grid_.size() > 0 && !gathers)
+  if (runs)
+  {
+#if defined(RC_SIMD_CLONES_ON)
+    gatherOutputRunsAvx512(o, n);
+#endif
+  }
+  else if (grid_.size() > 0 && !gathers)
     gatherOutputGroups(o, done, n);
   else
     gatherOutput(o, done, n);
