@@ -1,5 +1,5 @@
 // ab_core --a-core LIB --a-shim SHIM --b-core LIB --b-shim SHIM --bag IN.bag
-//         [--rounds R] [--passes P] [--topic T]
+//         [--rounds R] [--passes P] [--topic T] [--a-env NAME=VALUE] [--b-env NAME=VALUE]
 // Times two builds of the core in ONE process, frame by frame on the same frames: each build's
 // libring_curvature_core.so is loaded with its shim (ab_shim.cpp compiled against that build's
 // headers) into a link namespace of its own (dlmopen), so the two same-named libraries and their
@@ -10,6 +10,10 @@
 // and of the whole call, and the ratio B/A as the median over rounds of each round's median of
 // frame-pair ratios, with its 10-90 % range; the same for the thread's CPU time of the call,
 // which leaves out the time the thread waits descheduled while other processes run.
+// --a-env / --b-env (each may be repeated) set a variable for that build's first frame only:
+// the core reads its switches (RC_CPU_AVX512, RC_CPU_TUNING) once, at its first call, so one
+// build can be timed against itself with a switch set on one side (the same folder as A and B:
+// each side is a copy of its own in its own namespace).
 // src/tools/ab_core.sh builds the shims and runs it. The LAST line is machine-readable:
 //   frames=… points=… pairs=… a_ms=… b_ms=… ratio=… ratio_p10=… ratio_p90=…
 //   cpu_ratio=… cpu_ratio_p10=… cpu_ratio_p90=… outputs=same|DIFFERENT   (one line)
@@ -46,12 +50,13 @@ struct Options
   std::string bag, topic;
   int rounds = 20;
   int passes = 10;  // passes over the bag's frames per round
+  std::vector<std::string> env[2];  // NAME=VALUE set for that build's first call
 };
 
 void usage()
 {
   std::cerr << "usage: ab_core --a-core LIB --a-shim SHIM --b-core LIB --b-shim SHIM --bag IN.bag"
-               " [--rounds R] [--passes P] [--topic T]\n";
+               " [--rounds R] [--passes P] [--topic T] [--a-env NAME=VALUE] [--b-env NAME=VALUE]\n";
 }
 
 bool parseArgs(int argc, char** argv, Options& o)
@@ -77,6 +82,8 @@ bool parseArgs(int argc, char** argv, Options& o)
       o.bag = v;
     else if (a == "--topic")
       o.topic = v;
+    else if ((a == "--a-env" || a == "--b-env") && v.find('=') != std::string::npos && v.find('=') > 0)
+      o.env[a == "--a-env" ? 0 : 1].push_back(v);
     else if (a == "--rounds" && (o.rounds = std::atoi(v.c_str())) > 0)
       continue;
     else if (a == "--passes" && (o.passes = std::atoi(v.c_str())) > 0)
@@ -128,6 +135,10 @@ struct Build
   void* (*create)() = nullptr;
   int (*process)(void*, const RcAbCloud*, RcAbResult*, int, char*, size_t) = nullptr;
   void (*destroy)(void*) = nullptr;
+  // the namespace's own libc's setenv / unsetenv: each namespace has a libc and an environment
+  // of its own, and the main program's setenv does not reach the core's getenv
+  int (*set_env)(const char*, const char*, int) = nullptr;
+  int (*unset_env)(const char*) = nullptr;
   void* session = nullptr;
 };
 
@@ -167,9 +178,10 @@ bool load(const std::string& core, const std::string& shim, Build& b)
     return false;
   }
   if (!symbol(hs, "rc_ab_version", b.version) || !symbol(hs, "rc_ab_create", b.create) ||
-      !symbol(hs, "rc_ab_process", b.process) || !symbol(hs, "rc_ab_destroy", b.destroy))
+      !symbol(hs, "rc_ab_process", b.process) || !symbol(hs, "rc_ab_destroy", b.destroy) ||
+      !symbol(hc, "setenv", b.set_env) || !symbol(hc, "unsetenv", b.unset_env))
   {
-    std::cerr << "ab_core: " << b.name << ": " << shim << " lacks the rc_ab_* interface\n";
+    std::cerr << "ab_core: " << b.name << ": " << shim << " lacks the rc_ab_* interface (or no setenv)\n";
     return false;
   }
   if (b.version() != RC_AB_SHIM_VERSION)
@@ -342,6 +354,19 @@ int main(int argc, char** argv)
   }
   const std::size_t nf = clouds.size();
 
+  // Each build's first call with its own variables set (and no other side's), then unset.
+  for (int i = 0; i < 2 && nf > 0; ++i)
+  {
+    for (const std::string& e : opt.env[i])
+      builds[i].set_env(e.substr(0, e.find('=')).c_str(), e.substr(e.find('=') + 1).c_str(), 1);
+    RcAbResult r{};
+    const bool ok = run(builds[i], clouds[0], 0, r, nullptr);
+    for (const std::string& e : opt.env[i])
+      builds[i].unset_env(e.substr(0, e.find('=')).c_str());
+    if (!ok)
+      return 1;
+  }
+
   // Untimed warm-up pass (buffers grow to size), which also fingerprints both builds' outputs.
   std::size_t same_frames = 0;
   std::uint64_t primitives = 0;
@@ -385,7 +410,13 @@ int main(int argc, char** argv)
   // Per row: each build's median over all samples; the ratio of every pair, each round's median
   // of them, and the median and 10-90 % range of those round ratios.
   std::printf("ab_core: %s\n", opt.bag.c_str());
-  std::printf("  A: %s\n  B: %s\n", builds[0].core_path.c_str(), builds[1].core_path.c_str());
+  for (int i = 0; i < 2; ++i)
+  {
+    std::printf("  %s: %s", builds[i].name, builds[i].core_path.c_str());
+    for (const std::string& e : opt.env[i])
+      std::printf(" (%s)", e.c_str());
+    std::printf("\n");
+  }
   std::printf("  %zu frames, %.0f points/frame (mean), %.1f primitives/frame; %zu rounds x %d passes, "
               "A and B alternating frame by frame (+1 warm-up)\n",
               nf, static_cast<double>(total_points) / static_cast<double>(nf),

@@ -4,6 +4,8 @@
 # same machine state. Prints per build the median of each stage and of the whole call, and B/A
 # as the median and 10-90 % range over rounds of each round's median frame-pair ratio.
 # usage: ab_core.sh A_DIR B_DIR BAG [ROUNDS] [extra ab_core args, e.g. --passes 10 --topic T]
+#   A build against itself with a core switch on one side: the same folder twice and, e.g.,
+#   --b-env RC_CPU_AVX512=off or --b-env RC_CPU_TUNING=intel (set for that side's first call).
 #   *_DIR holds a build's libring_curvature_core.so (copied out of a workspace's devel/lib), and
 #   if it was built with one, its libring_curvature_ab_shim.so. For a build without a shim, one
 #   is compiled here against the headers in the directory named by AB_A_INCLUDE / AB_B_INCLUDE
