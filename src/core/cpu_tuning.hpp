@@ -11,7 +11,10 @@
 // on KITTI frames, 1.01 on VLP-16 dual-return ones and 1.02-1.05 on organized OS1-128 ones,
 // where masked-off lanes (padding) make the gathers cheap. The input passes read their records
 // with plain loads and shuffles there (input_avx2.hpp; grid 0.88 to 0.92 of the gather forms'
-// on the KITTI, VLP-16 and OS1-128 frames).
+// on the KITTI, VLP-16 and OS1-128 frames). On Zen 4 (session 21; AVX-512, whose forms run first)
+// the Intel profile took the primitives 1.13-1.22 of the AMD profile's time and the output stage
+// 1.12-1.78 (KITTI, VLP-16, OS1-128 frames): the AMD profile holds there too, with an output
+// form of its own for AVX-512 (pipeline.cpp).
 //
 // The outputs are the same bits under either profile; only the speed differs.
 #pragma once

@@ -186,7 +186,7 @@ __attribute__((target("avx512f,avx512bw,avx512vl"))) bool outputByRuns(const Out
 // gatherOutputGroups out of line and compiled for any CPU, for gatherOutputRunsAvx512's groups
 // that are not runs. (Inlined there, it was compiled for AVX-512 and took 1.4 of its time on the
 // VLP-16 dual-return frames; a second call site in Pipeline::process took it out of line there,
-// 1.07-1.13, hence always_inline and this one out-of-line copy.)
+// 1.02-1.12, hence always_inline and this one out-of-line copy.)
 __attribute__((noinline)) void gatherOutputGroupsApart(const OutputArrays& o, std::size_t i0, std::size_t i1)
 {
   gatherOutputGroups(o, i0, i1);
