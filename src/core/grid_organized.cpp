@@ -462,8 +462,8 @@ bool ScanGridBuilder::readOrganized(const PointCloudView& view, const Params& pa
                                : readPlaceRowAvx512<false>;
   for (std::size_t r = 0; r < R; ++r)
   {
-    // (the last record's 32-bit ring read, or its 16 bytes from x, could pass the end of the
-    // data: the last row's last group goes one column at a time)
+    // (the last record's 32-bit ring read, or its 16 or 32 bytes from x, could pass the end of
+    // the data: the last row's last group goes one column at a time)
     const std::size_t cols = r + 1 < R || (layout.oring < 0 && gathers) ? W : W - 1;
     const std::size_t wide_cols = wide ? cols / 16 * 16 : 0;
     const std::uint8_t* const row = view.data + r * view.row_step;
