@@ -160,8 +160,9 @@ TEST(OutputGather, RingByRingFrameGetsItsGridPositionsResultsBitForBit)
   const ScanGrid& g = p.grid();
   EXPECT_GT(g.num_duplicates, 0u);
   EXPECT_GT(g.num_second_returns, 0u);
-  // most groups of sixteen are runs of consecutive grid positions, as the runs form needs
-  std::size_t runs = 0, groups = 0;
+  // most groups of sixteen are runs of consecutive grid positions, as the runs form needs, and
+  // three in four of the first sixteen (its probe: else the frame goes by groups of eight)
+  std::size_t runs = 0, groups = 0, first_runs = 0;
   for (std::size_t i = 0; i + 16 <= c.size(); i += 16, ++groups)
   {
     std::int32_t next = -1;
@@ -173,7 +174,9 @@ TEST(OutputGather, RingByRingFrameGetsItsGridPositionsResultsBitForBit)
       next = g.grid_pos[j] + 1;
     }
     runs += run ? 1 : 0;
+    first_runs += run && groups < 16 ? 1 : 0;
   }
+  EXPECT_GE(first_runs, 12u);
   EXPECT_GT(runs, groups * 3 / 4);
   EXPECT_LT(runs, groups);
   expectGridPositionsResults(c);
