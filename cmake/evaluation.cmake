@@ -1,19 +1,11 @@
-# Evaluation tools (Python, in tools/): the scene simulator with ground truth, the accuracy
-# sweep over modes, and the report of the paper's metrics. In the source tree rosrun finds them
-# in tools/; installed, they go to the package's bin folder with their module folder beside
-# them. install(PROGRAMS), not catkin_install_python: the latter also writes devel-space
-# wrappers, and rosrun would then find each tool twice and stop to ask which one to run.
-install(PROGRAMS tools/simulate_scene tools/accuracy_sweep tools/evaluate
-  DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+# The scene simulator (Python, tools/simulate_scene with its module folder tools/rc_eval; numpy
+# only): synthetic sweeps with per-point ground truth. In the source tree rosrun finds it in
+# tools/; installed, it goes to the package's bin folder with its module folder beside it.
+# install(PROGRAMS), not catkin_install_python: the latter also writes devel-space wrappers, and
+# rosrun would then find the tool twice and stop to ask which one to run.
+# The other evaluation tools (tools/evaluate, tools/accuracy_sweep) score the core against the
+# PCL baselines: they run from the source tree on a build with the lab (cmake/lab.cmake) and
+# are not installed.
+install(PROGRAMS tools/simulate_scene DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(DIRECTORY tools/rc_eval DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION}
   PATTERN "__pycache__" EXCLUDE)
-install(DIRECTORY rosbag_fixtures/ DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/rosbag_fixtures
-  FILES_MATCHING PATTERN "synthetic_*")
-
-# Figure 4 (convergence): the Table-1 CSV from the same analytic traces as
-# test/core/test_convergence.cpp, so the plotted figure is what that test asserts.
-add_executable(convergence_table tools/convergence_table.cpp)
-target_include_directories(convergence_table PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
-target_link_libraries(convergence_table ring_curvature_core)
-target_compile_options(convergence_table PRIVATE ${RC_WARNINGS})
-install(TARGETS convergence_table RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -1,8 +1,17 @@
-# Robustness: malformed and degenerate input through the core (gtest). The sanitizer build
-# (test/sanitize/, run by scripts/test.d/40-sanitizers) and the fuzz target (test/fuzz/, run by
-# scripts/test.d/50-fuzz) are separate clang projects, because catkin's gcc build cannot carry
-# -fsanitize=fuzzer and instrumenting the whole catkin build would slow every other test.
+# Robustness: no allocation per frame, malformed and degenerate input through the core (gtest).
+# The sanitizer build (test/sanitize/, run by scripts/test.d/40-sanitizers) and the fuzz target
+# (test/fuzz/, run by scripts/test.d/50-fuzz) are separate clang projects, because catkin's gcc
+# build cannot carry -fsanitize=fuzzer and instrumenting the whole catkin build would slow every
+# other test.
 if(CATKIN_ENABLE_TESTING)
+  # No heap allocation per frame once warm (issue 6). The test binary interposes malloc, so it
+  # must not share a process with anything else: its own executable. The core alone, no PCL.
+  catkin_add_gtest(test_alloc test/alloc/test_pipeline_alloc.cpp test/alloc/alloc_counter.cpp
+    test/alloc/synthetic_scene.cpp)
+  if(TARGET test_alloc)
+    target_link_libraries(test_alloc ring_curvature_core)
+    target_compile_options(test_alloc PRIVATE ${RC_WARNINGS})
+  endif()
   catkin_add_gtest(robustness_malformed_cloud test/robustness/malformed_cloud_test.cpp)
   if(TARGET robustness_malformed_cloud)
     # catkin_add_gtest links gtest without its main()

@@ -12,6 +12,17 @@ export ROS_HOME="${ROS_HOME:-$WS/ros_home}"
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$ROS_HOME/log}"
 export PYTHONDONTWRITEBYTECODE=1
 rc_log() { printf '[ring_curvature] %s\n' "$*" >&2; }
+# The lab's targets (RC_BUILD_LAB: cmake/lab.cmake) in $WS, for the benchmark and A/B scripts
+# and the suites that use them: builds the targets named (scripts/build with RC_LAB=1) when the
+# workspace was configured without the lab or one of them is missing.
+rc_lab_tools() {
+  local t need=0
+  grep -qx 'RC_BUILD_LAB:BOOL=ON' "$WS/build/CMakeCache.txt" 2>/dev/null || need=1
+  for t in "$@"; do
+    [[ -e "$WS/devel/lib/ring_curvature/$t" || -e "$WS/devel/lib/lib$t.so" ]] || need=1
+  done
+  [[ $need -eq 0 ]] || RC_LAB=1 "$REPO_ROOT/scripts/build" "$@" >&2
+}
 rc_source_ws() {
   # setup.bash reads unset variables; relax nounset while sourcing it
   set +u; source "$WS/devel/setup.bash"; set -u

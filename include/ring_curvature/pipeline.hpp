@@ -4,10 +4,15 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "ring_curvature/classifier.hpp"
+#include "ring_curvature/features.hpp"
+#include "ring_curvature/params.hpp"
 #include "ring_curvature/primitives.hpp"
+#include "ring_curvature/scan_grid.hpp"
+#include "ring_curvature/types.hpp"
 
 namespace ring_curvature
 {
@@ -37,6 +42,9 @@ class Pipeline
 {
 public:
   explicit Pipeline(const Params& params = Params());
+  ~Pipeline();
+  Pipeline(Pipeline&&) noexcept;
+  Pipeline& operator=(Pipeline&&) noexcept;
 
   /// Replaces the parameters (validated; on error the old ones stay in force).
   Status setParams(const Params& params);
@@ -47,21 +55,17 @@ public:
   Status process(const PointCloudView& view, FrameResult& out);
 
   /// Intermediate products of the last frame (for tools, tests and visualisation).
-  const ScanGrid& grid() const { return grid_; }
-  const Features& features() const { return features_; }
-  const std::vector<Label>& gridLabels() const { return labels_; }
-  const std::vector<RingThresholds>& thresholds() const { return thresholds_; }
+  const ScanGrid& grid() const;
+  const Features& features() const;
+  const std::vector<Label>& gridLabels() const;
+  const std::vector<RingThresholds>& thresholds() const;
 
 private:
+  /// The stages and their products (src/core/pipeline/stages.hpp): each stage keeps its scratch
+  /// from frame to frame, so that a warm pipeline allocates nothing.
+  struct Stages;
   Params params_;
-  ScanGridBuilder grid_builder_;
-  FeatureComputer feature_computer_;
-  Classifier classifier_;
-  PrimitiveExtractor primitive_extractor_;
-  ScanGrid grid_;
-  Features features_;
-  std::vector<RingThresholds> thresholds_;
-  std::vector<Label> labels_;
+  std::unique_ptr<Stages> stages_;
 };
 
 }  // namespace ring_curvature

@@ -1,4 +1,4 @@
-#include "ring_curvature/baselines/euclidean_clustering.hpp"
+#include "baselines/euclidean_clustering.hpp"
 
 #include <pcl/segmentation/extract_clusters.h>
 

@@ -1,4 +1,4 @@
-#include "ring_curvature/baselines/pca_curvature.hpp"
+#include "baselines/pca_curvature.hpp"
 
 #include <cmath>
 #include <limits>

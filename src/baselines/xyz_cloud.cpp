@@ -1,4 +1,4 @@
-#include "ring_curvature/baselines/xyz_cloud.hpp"
+#include "baselines/xyz_cloud.hpp"
 
 #include <cmath>
 

@@ -78,7 +78,7 @@ void RingCurvatureNodelet::onInit()
   pub_stats_ = pnh.advertise<FrameStats>("frame_stats", std::max(q, 10U), cb, cb);
   NODELET_INFO("ready: subscribes to %s lazily (while an output has subscribers), outputs in %s",
                nh.resolveName("velodyne_points").c_str(), pnh.getNamespace().c_str());
-  // which SIMD forms and tuning profile this CPU runs (RC_CPU_TUNING; docs/benchmark.md, "SIMD")
+  // which SIMD clones this CPU runs (docs/performance.md, "SIMD")
   NODELET_INFO("core loops: %s", coreLoopsIsa());
 }
 

@@ -3,16 +3,16 @@
 // Times two builds of the core in ONE process, frame by frame on the same frames: each build's
 // libring_curvature_core.so is loaded with its shim (ab_shim.cpp compiled against that build's
 // headers) into a link namespace of its own (dlmopen), so the two same-named libraries and their
-// same-named symbols never meet. On this shared VM the machine's speed drifts by up to 1.75x
-// within minutes; running the two builds' benchmark binaries one after the other
+// same-named symbols never meet. On a shared machine the speed can drift by up to 1.75x within
+// minutes; running the two builds' benchmark binaries one after the other
 // (bench_compare.sh) lets that drift into the comparison, alternating them frame by frame does
 // not: the two calls of a pair are milliseconds apart. Prints per build the median of each stage
 // and of the whole call, and the ratio B/A as the median over rounds of each round's median of
 // frame-pair ratios, with its 10-90 % range; the same for the thread's CPU time of the call,
 // which leaves out the time the thread waits descheduled while other processes run.
 // --a-env / --b-env (each may be repeated) set a variable for that build's first frame only:
-// the core reads its switches (RC_CPU_AVX512, RC_CPU_TUNING) once, at its first call, so one
-// build can be timed against itself with a switch set on one side (the same folder as A and B:
+// a core that reads a switch from the environment once, at its first call, can so be timed
+// against itself with the switch set on one side (the same folder as A and B:
 // each side is a copy of its own in its own namespace).
 // src/tools/ab_core.sh builds the shims and runs it. The LAST line is machine-readable:
 //   frames=… points=… pairs=… a_ms=… b_ms=… ratio=… ratio_p10=… ratio_p90=…

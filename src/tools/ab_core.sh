@@ -4,8 +4,8 @@
 # same machine state. Prints per build the median of each stage and of the whole call, and B/A
 # as the median and 10-90 % range over rounds of each round's median frame-pair ratio.
 # usage: ab_core.sh A_DIR B_DIR BAG [ROUNDS] [extra ab_core args, e.g. --passes 10 --topic T]
-#   A build against itself with a core switch on one side: the same folder twice and, e.g.,
-#   --b-env RC_CPU_AVX512=off or --b-env RC_CPU_TUNING=intel (set for that side's first call).
+#   A build against itself with an environment switch on one side: the same folder twice and
+#   --b-env NAME=VALUE (set for that side's first call). Run A B, then B A: both orders.
 #   *_DIR holds a build's libring_curvature_core.so (copied out of a workspace's devel/lib), and
 #   if it was built with one, its libring_curvature_ab_shim.so. For a build without a shim, one
 #   is compiled here against the headers in the directory named by AB_A_INCLUDE / AB_B_INCLUDE
@@ -14,7 +14,8 @@
 #   so a change to any private member of the core's headers changes its layout, and a shim
 #   compiled against other headers crashes (free(): invalid pointer) or worse. For an old
 #   commit: git archive COMMIT include | tar -x -C DIR.
-# ab_core itself comes from this repository's workspace (scripts/build); AB_CORE_BIN overrides.
+# ab_core itself comes from this repository's workspace, built with the lab (RC_LAB=1
+# scripts/build) here if missing; AB_CORE_BIN overrides.
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
 if (( $# < 3 )); then
@@ -23,8 +24,9 @@ if (( $# < 3 )); then
 fi
 a_dir=$1 b_dir=$2 bag=$3 rounds=${4:-20}
 shift $(( $# < 4 ? $# : 4 ))
+[[ -n "${AB_CORE_BIN:-}" ]] || rc_lab_tools ab_core
 bin=${AB_CORE_BIN:-$WS/devel/lib/ring_curvature/ab_core}
-[[ -x "$bin" ]] || { rc_log "no $bin: build it (scripts/build ab_core)"; exit 1; }
+[[ -x "$bin" ]] || { rc_log "no $bin: build it (RC_LAB=1 scripts/build ab_core)"; exit 1; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 

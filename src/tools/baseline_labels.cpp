@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "bench_label_cloud.hpp"
-#include "ring_curvature/baselines/euclidean_clustering.hpp"
-#include "ring_curvature/baselines/pca_curvature.hpp"
+#include "baselines/euclidean_clustering.hpp"
+#include "baselines/pca_curvature.hpp"
 #include "ring_curvature/ros/cloud_adapter.hpp"
 
 namespace rc = ring_curvature;

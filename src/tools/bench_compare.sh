@@ -4,16 +4,17 @@
 # prints each run's last line, then per side the median over the runs of each stage's median
 # and of pipeline_ms.
 # usage: bench_compare.sh BEFORE_DIR AFTER_DIR BAG [ROUNDS] [extra benchmark args]
-#   *_DIR holds `benchmark` and the libring_curvature_core.so it should load (copied out of a
-#   workspace's devel/lib: the binary's RUNPATH yields to LD_LIBRARY_PATH).
+#   *_DIR holds `benchmark` and the libring_curvature_core.so it should load (copied out of the
+#   devel/lib of a workspace built with the lab, RC_LAB=1 scripts/build: the binary's RUNPATH
+#   yields to LD_LIBRARY_PATH).
 set -euo pipefail
 before=$1 after=$2 bag=$3 rounds=${4:-5}
 shift $(( $# < 4 ? $# : 4 ))
 runs=$(mktemp)
 trap 'rm -f "$runs"' EXIT
 # ABBA order: each side runs first in half of the rounds. Run back to back, the second of a
-# pair measured slower here (an identical copy of one build: 1.95 -> 2.12 ms, 9 rounds), so a
-# fixed order biased every comparison against the "after" build.
+# pair can measure slower (an identical copy of one build: 1.95 -> 2.12 ms, 9 rounds), so a
+# fixed order would bias every comparison against the "after" build.
 for ((i = 0; i < rounds; i++)); do
   order="before after"
   (( i % 2 == 1 )) && order="after before"

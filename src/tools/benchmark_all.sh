@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Runs the benchmark over the shipped fixtures and the shared real frames (skipping, with a note,
 # any that are absent: a user's clone has no ../shared; RC_SHARED names another place), printing each run's full table.
-# The figures in docs/benchmark.md come from this script:
-#   src/tools/benchmark_all.sh [REPEAT]      (after scripts/build; uses $RC_WS or .catkin_ws)
+# The figures in docs/performance.md come from this script:
+#   src/tools/benchmark_all.sh [REPEAT]      (uses $RC_WS or .catkin_ws; builds the benchmark,
+#                                            a lab tool, with RC_LAB=1 if the workspace lacks it)
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/common.sh"
+rc_lab_tools benchmark
 rc_source_ws
 repeat=${1:-20}
 real="$SHARED_REAL"

@@ -2,12 +2,11 @@
 # Checks that two builds of the core give byte-identical outputs: runs `process_bag` of each on
 # the shipped fixtures and the shared real frames (those present), with three parameter sets
 # that together exercise every mode, and compares the output bags with cmp. Every speed change
-# of issue 6 was verified this way.
+# is checked this way (docs/performance.md).
 # usage: compare_outputs.sh BEFORE_DIR AFTER_DIR [WORK_DIR]
 #   *_DIR: a folder with process_bag and the libring_curvature_{core,ros}.so it should load
 #   (copied out of a workspace's devel/lib: LD_LIBRARY_PATH takes precedence over RUNPATH).
-#   AFTER_WRAPPER: a command the after side's process_bag runs under (e.g. "valgrind --tool=none -q",
-#   which reports a CPU without AVX-512, so that the AVX2 clones run on an AVX-512 host).
+#   AFTER_WRAPPER: a command the after side's process_bag runs under (e.g. "env NAME=VALUE").
 #   COMPARE_BAGS: a space-separated list of bags instead of the default set.
 #   RC_SHARED: where the shared real frames are (default: ../shared beside the repository).
 # Exit status: 0 when every output is identical, 1 otherwise.

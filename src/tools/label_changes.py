@@ -2,7 +2,7 @@
 """Counts the points whose label differs between two builds' outputs.
 
 compare_outputs.sh tells whether two builds' output bags are identical; when a change is meant to
-move the outputs (the float32 features of session 8), this says by how much: run
+move the outputs (e.g. features computed in float32), this says by how much: run
 `src/tools/compare_outputs.sh BEFORE_DIR AFTER_DIR WORK_DIR` (WORK_DIR keeps the bags), then
 `src/tools/label_changes.py WORK_DIR`. One line per run (bag and parameter set) with its frames,
 points and changed labels (field `label` of ~labelled_points), and the totals.

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <vector>
 
-#include "ring_curvature/baselines/euclidean_clustering.hpp"
-#include "ring_curvature/baselines/pca_curvature.hpp"
+#include "baselines/euclidean_clustering.hpp"
+#include "baselines/pca_curvature.hpp"
 #include "synthetic_scene.hpp"
 
 namespace rc = ring_curvature;

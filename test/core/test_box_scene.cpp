@@ -11,7 +11,7 @@
 #include <numeric>
 #include <vector>
 
-#include "../../src/core/covariance_axis.hpp"
+#include "primitives/covariance_axis.hpp"
 #include "../support/ray_scene.hpp"
 #include "ring_curvature/pipeline.hpp"
 
@@ -253,7 +253,7 @@ TEST(BoxScene, OneCentimetreNoise) { runBoxScene(0.01, {0.65, 0.9, 0.7, 0.98}); 
 // w d, (w d) d and (w d) rot(d), d = p - r, w = 1 + the duplicates whose representative it is;
 // the centroid r + sum(w d) / n, the moments about it sum(w d d^T) - sum(w d) sum(w d)^T / n, n
 // with the duplicates; the primitives' 3x3 solver covarianceAxis, which test_covariance_axis
-// holds to a long-double reference), whichever code path the extractor takes (AVX2 or not).
+// holds to a long-double reference).
 // With every firing twice (dual return), half of each primitive's points are duplicates after
 // its grid points; with every 40th twice, a few (the sums' loop for those). One pipeline for all
 // the clouds, in an order where counts left over from a frame before would show (the extractor
@@ -352,8 +352,7 @@ TEST(BoxScene, PrimitiveSummariesArePerPointSums)
   }
 }
 
-// The extractor's components (runs, vertical unions run by run with their shortcuts, the AVX2
-// paths) against the plain union-find above: unorganized and organized, with and without
+// The extractor's components (runs, vertical unions run by run with their shortcuts) against the plain union-find above: unorganized and organized, with and without
 // duplicates, with and without Rough primitives, noise-free and noisy.
 TEST(BoxScene, PrimitivesAreThoseOfAPlainUnionFind)
 {

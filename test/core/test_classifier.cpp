@@ -9,6 +9,8 @@
 #include <random>
 
 #include "../support/ray_scene.hpp"
+#include "classification/classifier.hpp"
+#include "classification/rank_select.hpp"
 #include "ring_curvature/pipeline.hpp"
 
 using namespace ring_curvature;

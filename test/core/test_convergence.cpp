@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../support/convergence_study.hpp"
+#include "common/float_bits.hpp"
 
 using namespace ring_curvature;
 using namespace ring_curvature::test;

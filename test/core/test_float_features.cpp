@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../support/synthetic_cloud.hpp"
+#include "common/float_bits.hpp"
 #include "ring_curvature/pipeline.hpp"
 
 using namespace ring_curvature;
@@ -180,11 +181,7 @@ TEST(FloatFeatures, DetrendedSmoothnessMatchesDouble)
   }
 }
 
-// Longest chords of 6 samples (the default; on a CPU with AVX2 alone, or under valgrind, which
-// reports no AVX-512, the ends come from chordEndsAvx2 up to 8), 16 (the longest whose ends an
-// AVX-512 CPU reads by permutes of three vectors, chordEndsAvx512) and 17 (the compiler's form
-// again); at 0.5 m
-// every chord is the longest, at 3 m and beyond the sample counts vary along the wall. The
+// Longest chords of 6 samples (the default), 16 and 17; at 0.5 m every chord is the longest, at 3 m and beyond the sample counts vary along the wall. The
 // rings' 1800 samples leave a tail of 8 past the last group of sixteen.
 TEST(FloatFeatures, ChordAndJumpMatchDoubleFormulas)
 {

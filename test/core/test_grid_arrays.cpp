@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../support/synthetic_cloud.hpp"
+#include "common/float_bits.hpp"
 #include "ring_curvature/pipeline.hpp"
 
 using namespace ring_curvature;
@@ -34,9 +35,8 @@ void expectRingElevation(const ScanGrid& g, int r, double sines, std::uint32_t n
 // before the azimuth (the ring's first when there is none), its successor (the ring's first
 // after its last) and the ring's last one, the circularly nearest, the first of equals in that
 // order. Rings of unlike densities (7 to 3600 samples), gaps of every length on both rings,
-// shifted starts and an empty ring: the grouped search must fall back wherever its window of
-// sixteen samples above (32 for the sixteen-lane AVX-512 form) does not hold the answer. A
-// 1800-sample ring under a 3600 one carries the AVX-512 form's count to 32.
+// shifted starts and an empty ring, and an 1800-sample ring under a 3600 one (the walk moves
+// two samples above for one below).
 TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
 {
   constexpr double kPiD = 3.14159265358979323846;
@@ -99,9 +99,9 @@ TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
   EXPECT_GT(checked, 10000u);
 }
 
-// Organized float32 frames are placed, gathered and summed in one pass (eight columns at a time
-// on AVX2): every array against the input, with rows all valid, all missing, and mixed (NaN,
-// too near, the origin), in a width that is no multiple of 8.
+// Organized float32 frames, placed, gathered and summed: every array against the input, with
+// rows all valid, all missing, and mixed (NaN, too near, the origin), in a width that is no
+// multiple of 8.
 TEST(ScanGrid, OrganizedGridMatchesItsInput)
 {
   const int rows = 5, cols = 203;

@@ -1,5 +1,5 @@
-// Organized clouds: the one-pass input and placement of float32 clouds (readOrganized, AVX2)
-// against the generic input pass and placement, and the ring field check on that path.
+// Organized clouds: the float32 input pass and placement against the generic input pass and
+// placement of float64 records, and the ring field check on the float32 path.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,11 +58,11 @@ Frame organizedFrame(int rows, std::size_t cols, unsigned seed)
 }
 }  // namespace
 
-// The one-pass path must give the grid the generic path gives, bit for bit: every per-position
+// The float32 path must give the grid the generic path gives, bit for bit: every per-position
 // and per-point array, the ring bounds and elevations, the measured resolution and the labels.
-// Widths that are and are not multiples of sixteen and eight (the AVX-512 loop, then the AVX2
-// loop, then one column at a time), and one under eight.
-TEST(OrganizedGrid, OnePassMatchesTheGenericPath)
+// Widths that are and are not multiples of sixteen and eight (the vectorized loops' groups),
+// and one under eight.
+TEST(OrganizedGrid, Float32PathMatchesTheGenericPath)
 {
   for (const int width : {256, 203, 40, 24, 17, 5})
   {
@@ -99,8 +99,8 @@ TEST(OrganizedGrid, OnePassMatchesTheGenericPath)
 }
 
 // A ring field at or beyond max_rings is an error naming the first such point, wherever it is
-// (read eight at a time, or the last point, which is read on its own); the grid is left empty
-// and the next good frame is processed normally.
+// (inside a row, or the last point); the grid is left empty and the next good frame is
+// processed normally.
 TEST(OrganizedGrid, RingFieldOutOfRangeNamesThePoint)
 {
   Params params;
@@ -128,8 +128,8 @@ TEST(OrganizedGrid, RingFieldOutOfRangeNamesThePoint)
 // An organized row's links go by columns: a sample links to the one before it in its row when
 // at most max_gap_samples columns between them are missing, and the row closes across the seam
 // on the same rule; the azimuth resolution is the spacing per column, whatever the gaps. Gaps
-// of one to four columns inside rows and at their ends, on both input paths (float32: the one
-// pass; float64: the generic one).
+// of one to four columns inside rows and at their ends, on both input paths (float32 and the
+// generic float64 one).
 TEST(OrganizedGrid, LinksGoByColumnsAcrossGaps)
 {
   const int rows = 8;

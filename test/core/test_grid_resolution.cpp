@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "../support/ray_scene.hpp"
+#include "grid/spacing_median.hpp"
 #include "ring_curvature/pipeline.hpp"
 
 using namespace ring_curvature;

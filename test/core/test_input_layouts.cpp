@@ -1,14 +1,11 @@
-// The float32 input passes (grid_input.cpp's readRecords, grid_organized.cpp's readOrganized)
+// The float32 input pass (grid_input.cpp's readRecords, unorganized and row by row organized)
 // over record layouts other than the shipped bags': record steps 14 to 48, x not at 0, the ring
-// before, right after z or in any 16-bit place of the 16 bytes after z (AVX-512's 32-byte reads
-// from x; across two words the gathers), y and z not following x (the gathers), frame sizes around
-// the groups of 8 and 16, rings in turn and one after another, organized rows with and without
-// a ring field and with row padding.
+// before, right after z, ending the record or across two 4-byte words, y and z not following x,
+// frame sizes around the groups of 8 and 16 (the vectorized loop's), rings in turn and one after
+// another, organized rows with and without a ring field and with row padding.
 // Each frame is compared bit for bit with the same values in float64 records, which take the
 // generic input pass, and is read from a buffer that ends where an inaccessible page begins, so
-// that a vector load past the end of the data faults. The vector forms that run depend on the
-// CPU and on RC_CPU_TUNING (cpu_tuning.hpp): scripts/test.d/70-simd-clones runs these tests
-// with both choices.
+// that a read past the end of the data faults.
 #include <gtest/gtest.h>
 
 #include <sys/mman.h>
@@ -94,7 +91,7 @@ std::vector<Point> scanPoints(std::size_t n, unsigned seed, bool ring_after_ring
     const double r = k % (ring_after_ring ? 110 : 11) == 5 ? 0.05 : 2.0 + 30.0 * u(rng);
     Point p{static_cast<float>(r * std::cos(el) * std::cos(az)), static_cast<float>(r * std::cos(el) * std::sin(az)),
             static_cast<float>(r * std::sin(el)), ring};
-    // (ring after ring: the invalid returns sparser, so that stretches of eight valid ones occur)
+    // (ring after ring: the invalid returns sparser, so that long stretches of valid ones occur)
     const std::size_t every = ring_after_ring ? 10 : 1;
     if (k % (7 * every) == 3) p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
     if (k % (19 * every) == 4) p.z = std::numeric_limits<float>::infinity();
@@ -166,7 +163,7 @@ void expectSameGrid(const Pipeline& fast, const FrameResult& rf, const Pipeline&
   EXPECT_TRUE(sameBits(rf.curvature, rg.curvature)) << what;
 }
 
-// x, y, z one run of floats (the plain-load form where the gathers are slow) and not.
+// x, y, z one run of floats and not; the ring anywhere around them.
 const Layout kLayouts[] = {
     {22, 0, 4, 8, 16},   // velodyne XYZIRT, packed
     {14, 0, 4, 8, 12},   // ring right after z, records not 4-byte aligned
@@ -175,12 +172,12 @@ const Layout kLayouts[] = {
     {32, 0, 4, 8, 16},   // PCL-padded
     {48, 0, 4, 8, 26},   // ouster
     {48, 20, 24, 28, 2},  // x late in the record
-    {18, 0, 4, 8, 16},   // the ring ends the record: AVX-512's 32-byte reads come within 4 bytes of the end
+    {18, 0, 4, 8, 16},   // the ring ends the record
     {28, 8, 12, 16, 26},  // the ring in the high half of its word, ending the record
-    {32, 0, 4, 8, 30},   // ... in the last word of AVX-512's 32 bytes
-    {24, 0, 4, 8, 19},   // across two words: gathers
-    {16, 0, 8, 4, 12},   // z before y: gathers
-    {24, 12, 4, 20, 0},  // scattered: gathers
+    {32, 0, 4, 8, 30},   // ... the last two bytes of the 32 from x
+    {24, 0, 4, 8, 19},   // across two words
+    {16, 0, 8, 4, 12},   // z before y
+    {24, 12, 4, 20, 0},  // scattered
 };
 
 // pts as one unorganized frame of layout L, through the float32 passes, against the generic pass.
@@ -206,8 +203,8 @@ TEST(InputLayouts, UnorganizedMatchesTheGenericPass)
                                name(L) + ", " + std::to_string(n) + " points");
 }
 
-// Rings one after another (the coordinate gather's runs of consecutive input points, read as
-// vectors on the AMD profile), around the groups of eight.
+// Rings one after another (the grid's index then holds runs of consecutive input points),
+// around the groups of eight.
 TEST(InputLayouts, RingAfterRingMatchesTheGenericPass)
 {
   for (const Layout& L : {kLayouts[0], kLayouts[4], kLayouts[11]})

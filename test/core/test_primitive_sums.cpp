@@ -1,5 +1,4 @@
-// The primitives' box, centroid and moment sums (primitiveSums: primitiveSumsAvx2 where the CPU
-// has AVX2, primitiveSumsPlain otherwise; both are checked) against their definition, bit for
+// The primitives' box, centroid and moment sums (primitiveSums) against their definition, bit for
 // bit: the box from std::min / std::max of the grid points' floats (as it was before the sums
 // became one pass), and about the first point r the double sums over the grid points, in index
 // order, of w d, (w d) d and (w d) rot(d), d = p - r, w = 1 + the duplicates of the point (so
@@ -24,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "../../src/core/primitive_sums.hpp"
+#include "primitives/primitive_sums.hpp"
 
 using namespace ring_curvature;
 
@@ -118,15 +117,8 @@ void oldScheme(const std::uint32_t* sp, std::uint32_t np, const Grid& gx, const 
 using SumsFn = void (*)(const std::uint32_t*, std::uint32_t, std::uint32_t, const std::uint32_t*, const double*,
                         const double*, const double*, PrimitiveSums&);
 
-// Every form this CPU can run: the dispatcher, the plain form, and the AVX2 form where it runs
-std::vector<SumsFn> forms()
-{
-  std::vector<SumsFn> f = {primitiveSums, primitiveSumsPlain};
-#if defined(RC_SIMD_CLONES_ON)
-  if (__builtin_cpu_supports("avx2")) f.push_back(primitiveSumsAvx2);
-#endif
-  return f;
-}
+// The forms under test (one: the clone the loader picked for this CPU)
+std::vector<SumsFn> forms() { return {primitiveSums}; }
 
 bool sameSums(const PrimitiveSums& got, const PrimitiveSums& want)
 {

@@ -1,7 +1,6 @@
-// The sort keys of rings that come one after another (KITTI's layout), built eight at a time on
-// AVX2 machines, and sorted with their ordered stretches appended four at a time: each ring's
-// order must be exactly (azimuth, input index), whatever the run lengths, the invalid points
-// between them, -0 azimuths and ties.
+// The sort keys of rings that come one after another (KITTI's layout), and their insertion sort:
+// each ring's order must be exactly (azimuth, input index), whatever the run lengths, the
+// invalid points between them, -0 azimuths and ties.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include <vector>
 
 #include "../support/synthetic_cloud.hpp"
+#include "common/float_bits.hpp"
 #include "ring_curvature/pipeline.hpp"
 
 using namespace ring_curvature;
@@ -21,7 +21,7 @@ using namespace ring_curvature::test;
 TEST(RingKeys, ConsecutiveRingsAreOrderedByAzimuthThenIndex)
 {
   // Ring after ring, clockwise (decreasing azimuth) or not, with local disorder; ring lengths
-  // that are not multiples of eight, invalid points here and there (they cut the eight-point blocks),
+  // that are not multiples of eight, invalid points here and there (they break the runs),
   // a few rings of one to five points, repeated azimuths (ties broken by the input index) and
   // points on the +x axis with y = -0 (azimuth -0, which must sort and read as +0).
   // duplicate_azimuth_fraction = 0: nothing is folded or removed, every valid point is on the

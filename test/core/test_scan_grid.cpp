@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "../support/ray_scene.hpp"
+#include "common/float_bits.hpp"
 #include "ring_curvature/pipeline.hpp"
 
 using namespace ring_curvature;
@@ -458,9 +459,8 @@ TEST(ScanGrid, RejectsBadViewsWithAClearMessage)
   EXPECT_EQ(r.label.size(), 3u);
 }
 
-// The input pass reads most records sixteen (AVX-512) or eight (AVX2) at a time, where the CPU
-// has those, and the rest one at a time: either way every point on the grid must carry exactly
-// fastAtan2(y, x) of its float coordinates and the double range sqrt((x x + y y) + z z), special
+// The input pass's vectorized loops (their clones included): every point on the grid must carry
+// exactly fastAtan2(y, x) of its float coordinates and the double range sqrt((x x + y y) + z z), special
 // values included (signed zeros, subnormals, |x| = |y|, the axes), and points out of range or NaN
 // must stay off the grid.
 TEST(ScanGrid, InputPassGivesExactAzimuthsAndRanges)

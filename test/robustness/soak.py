@@ -285,10 +285,9 @@ def main():
     ap.add_argument("--margin-mb", type=float, default=3.0,
                     help="allowed RSS growth (or 5%% of the baseline, whichever is larger)")
     # Across reloads the manager's RSS steps up and back down by ~2.6 MB as the allocator takes and
-    # returns a block (24.2-27.1 MB in one 24-cycle run, session 21: 24.2 24.4 26.8 ... 27.1 25.0 ...
-    # 24.3), which a 3 MB bound over 12 cycles nearly failed on (+2.7). A leaked nodelet or pipeline
-    # is a megabyte or more a cycle, twelve cycles between the two windows measured: 5 MB still
-    # catches 0.5 MB a cycle.
+    # returns a block (24.2-27.1 MB over one 24-cycle run), which a 3 MB bound over 12 cycles
+    # nearly failed on (+2.7). A leaked nodelet or pipeline is a megabyte or more a cycle, twelve
+    # cycles between the two windows measured: 5 MB still catches 0.5 MB a cycle.
     ap.add_argument("--lifecycle-margin-mb", type=float, default=5.0,
                     help="allowed RSS growth across the unload / reload cycles")
     args = ap.parse_args(rospy.myargv()[1:])

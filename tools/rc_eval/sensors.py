@@ -5,7 +5,7 @@ interleaved order -15, +1, -13, +3, ... deg, each 2.304 us apart, 16 firings per
 block (velodyne "VLP-16 User Manual", firing timing). The head turns during a block, so each
 ring has its own small azimuth offset, which the core must handle. `ring` is the index by
 elevation, 0 = lowest, as velodyne_pointcloud numbers it. The head turns clockwise seen from
-above (azimuth decreasing), as in the real bags in /work/shared/data/real.
+above (azimuth decreasing), as in the real bags (rosbag_fixtures/, ../shared/data/real).
 """
 from dataclasses import dataclass
 

@@ -1,0 +1,180 @@
+// The default mode's smoothness (Detrended, w <= kMaxDirect): each sample's windows from their
+// own samples, without prefix sums.
+#include "features/smoothness_windows.hpp"
+
+#include "common/simd_clones.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+namespace ring_curvature
+{
+namespace detail
+{
+namespace
+{
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// Detrended smoothness of every sample from its own window in float, for the small windows
+// (w <= kMaxDirect): no prefix sums. The sums are of the ranges relative to the window's centre
+// sample, d_j = rho_{k+j} - rho_k, not of the ranges themselves: the variance's cancellation
+// (mean square less squared mean, less the trend) then works on values of the size of the range
+// differences within the window, not of the range (squared ranges summed over a ring lose
+// everything in float). Float's error is then ~1e-7 of the window's spread of ranges, about what
+// the float32 input's coordinates carry anyway. A window costs O(w) a sample, which for w <= 4
+// is less than the prefix sums' serial chain and two double windows, and it vectorizes.
+
+template <int W>
+[[gnu::always_inline]] inline void directWindows(int K, const float* __restrict rp, float* __restrict out)
+{
+  // 1 / n and 1 / (n sum (j - jbar)^2) for the centred window (2W + 1) and the sided ones (W + 1)
+  const float ic = 1.0f / (2 * W + 1), ics = 1.0f / (W + 1);
+  const float it = static_cast<float>(invTrend(2.0 * W + 1.0)), its = static_cast<float>(invTrend(W + 1.0));
+  constexpr float half = 0.5f * W;
+  for (int k = 0; k < K; ++k)
+  {
+    float l0 = 0, l1 = 0, l2 = 0, r0 = 0, r1 = 0, r2 = 0;
+    for (int j = 1; j <= W; ++j)
+    {
+      const float dl = rp[k - j] - rp[k], dr = rp[k + j] - rp[k];
+      l0 += dl;
+      r0 += dr;
+      l1 += static_cast<float>(j) * dl;  // sum j d over the left side (indices -j)
+      r1 += static_cast<float>(j) * dr;
+      l2 += dl * dl;
+      r2 += dr * dr;
+    }
+    // centred window: index -j on the left, +j on the right, mean index 0
+    float v = residualVariance(l0 + r0, r1 - l1, l2 + r2, ic, it);
+    // sided windows (the centre sample's d is 0): indices -W..0 and 0..W, mean -+W/2
+    v = std::min(v, residualVariance(l0, half * l0 - l1, l2, ics, its));
+    v = std::min(v, residualVariance(r0, r1 - half * r0, r2, ics, its));
+    out[k] = v;
+  }
+}
+
+RC_SIMD_CLONES void directSmoothness(int K, int w, const float* __restrict rp, float* __restrict out)
+{
+  switch (w)
+  {
+    case 2: directWindows<2>(K, rp, out); break;
+    case 3: directWindows<3>(K, rp, out); break;
+    default: directWindows<4>(K, rp, out); break;
+  }
+}
+
+// Sums over a window of n ranges at(0) .. at(n - 1), relative to its first: of the differences,
+// of their products with the centred index, and of their squares (the near-gap windows in double).
+// One sample's terms: difference d of index j in a window centred at jbar.
+[[gnu::always_inline]] inline void addWindowSample(double d, std::size_t j, double jbar, double& s0, double& s1,
+                                                   double& s2)
+{
+  s0 += d;
+  s1 += (static_cast<double>(j) - jbar) * d;
+  s2 += d * d;
+}
+template <class At>
+[[gnu::always_inline]] inline void windowSums(std::size_t n, double& s0, double& s1, double& s2, At at)
+{
+  const double ref = at(0), jbar = 0.5 * static_cast<double>(n - 1);
+  s0 = s1 = s2 = 0;
+  for (std::size_t j = 0; j < n; ++j) addWindowSample(at(j) - ref, j, jbar, s0, s1, s2);
+}
+// The same for a window of ring samples first .. first + n - 1 across the seam of a closed ring.
+[[gnu::always_inline]] inline void seamWindowSums(const double* rho, int K, std::ptrdiff_t first, std::size_t n,
+                                                  double& s0, double& s1, double& s2)
+{
+  windowSums(n, s0, s1, s2, [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
+}
+
+// Window sums of nearGapDirect: the n_all samples at(0) .. at(n_all - 1) relative to the
+// first, and of the first n_left of them (same first sample) the sum of (j - jbar) d: the left
+// window's sums of d and d^2 are the whole window's after n_left steps (the same additions in
+// the same order), taken there rather than summed again.
+template <class At>
+[[gnu::always_inline]] inline void sharedWindowSums(std::size_t n_all, std::size_t n_left, double* all, double* left,
+                                                    At at)
+{
+  const double ref = at(0), jbar = 0.5 * static_cast<double>(n_all - 1);
+  const double jbar_l = 0.5 * static_cast<double>(n_left - 1);
+  double s0 = 0, s1 = 0, s2 = 0, s1l = 0;
+  std::size_t j = 0;
+  for (; j < n_left; ++j)
+  {
+    const double d = at(j) - ref;
+    addWindowSample(d, j, jbar, s0, s1, s2);
+    s1l += (static_cast<double>(j) - jbar_l) * d;
+  }
+  left[0] = s0;
+  left[1] = s1l;
+  left[2] = s2;
+  for (; j < n_all; ++j) addWindowSample(at(j) - ref, j, jbar, s0, s1, s2);
+  all[0] = s0;
+  all[1] = s1;
+  all[2] = s2;
+}
+
+// nearGapSmoothness for the direct windows (detrended, w <= kMaxDirect), in double, each window
+// relative to its first sample, with the centred and the left window summed in one pass
+// (sharedWindowSums), and a one-sided window that is the centred one (a sample at a gap: no
+// link on that side) not formed again (the same bits: min(v, v) is v). Extended index j is ring sample
+// j - ext: a window's ranges in place, or, where it reaches across the seam of a closed ring
+// (rare), wrapped one by one (the right window lies inside the centred one).
+// (Windows of at most 2 kMaxDirect + 1 samples: the tables hold their factors.)
+inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* L, const int* R, const double* rho,
+                          const double* ic, const double* it, float* out)
+{
+  const auto nearGap = [&](int k) __attribute__((always_inline)) {
+    const int a = std::min(w, L[k]), z = std::min(w, R[k]);  // reach of the window, left / right
+    const std::size_t n = static_cast<std::size_t>(a + z + 1), n_left = static_cast<std::size_t>(a + 1);
+    if (n < 2)
+    {
+      out[k] = n == 1 ? 0.0f : kNaN;
+      return;
+    }
+    const std::ptrdiff_t first = k - a;  // ring sample of the window's first
+    const bool in_place = first >= 0 && first + static_cast<std::ptrdiff_t>(n) <= K;
+    double all[3], left[3];
+    if (in_place)
+      sharedWindowSums(n, n_left, all, left, [rs = rho + first](std::size_t j) { return rs[j]; });
+    else
+      sharedWindowSums(n, n_left, all, left,
+                       [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
+    double var = residualVariance(all[0], all[1], all[2], ic[n], it[n]);
+    if (n_left >= 3 && z > 0)
+      var = std::min(var, residualVariance(left[0], left[1], left[2], ic[n_left], it[n_left]));
+    const std::size_t n_right = static_cast<std::size_t>(z + 1);
+    if (n_right >= 3 && a > 0)
+    {
+      double s0, s1, s2;
+      if (in_place)
+        windowSums(n_right, s0, s1, s2, [rs = rho + k](std::size_t j) { return rs[j]; });
+      else
+        seamWindowSums(rho, K, k, n_right, s0, s1, s2);
+      var = std::min(var, residualVariance(s0, s1, s2, ic[n_right], it[n_right]));
+    }
+    out[k] = static_cast<float>(var);
+  };
+  for (int i = 0; i + 1 < num_seg; ++i)
+  {
+    const int p = seg[i], q = seg[i + 1];
+    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
+    for (int k = a1; k < a2; ++k) nearGap(k);
+    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
+    for (int k = b1; k < b2; ++k) nearGap(k);
+  }
+}
+}  // namespace
+
+RC_SIMD_CLONES void directRingSmoothness(int K, int w, const double* rho, const float* rpf, const int* L,
+                                         const int* R, const int* seg, int num_seg, const double* ic,
+                                         const double* it, float* out)
+{
+  directSmoothness(K, w, rpf, out);
+  nearGapDirect(K, w, seg, num_seg, L, R, rho, ic, it, out);
+}
+
+}  // namespace detail
+}  // namespace ring_curvature

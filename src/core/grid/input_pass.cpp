@@ -1,0 +1,288 @@
+// The grid's input pass: every input record read once into per-point scratch (range, validity,
+// ring, azimuth), with fast paths for the common layouts, and rings found from elevation when a
+// cloud has no ring field.
+#include "ring_curvature/scan_grid.hpp"
+#include "grid/scan_grid_builder.hpp"
+#include "common/float_bits.hpp"
+
+#include "common/angles.hpp"
+#include "grid/record_read.hpp"
+#include "common/simd_clones.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace ring_curvature
+{
+
+namespace
+{
+
+// The input pass's entries for point i: its range decides validity (NaN and inf fail both
+// comparisons); the entries of invalid points are written too (x / y / z then hold values
+// nothing reads). Shared by the vectorized reader below and the generic loop of readPoints.
+// x, y, z as float32 feed the azimuths and, for float32 clouds, the grid's coordinates (see
+// ScanGridBuilder::build).
+struct PointEntries
+{
+  double* range;
+  float* x;
+  float* y;
+  float* z;
+  std::int32_t* ring;
+  PointState* state;
+  std::int32_t* grid_pos;
+};
+inline void storePoint(const PointEntries& out, std::size_t i, double x, double y, double z, std::int32_t ring,
+                       double rmin, double rmax)
+{
+  const double range = std::sqrt(x * x + y * y + z * z);
+  const bool valid = (range >= rmin) & (range <= rmax);
+  out.range[i] = range;
+  out.x[i] = static_cast<float>(x);
+  out.y[i] = static_cast<float>(y);
+  out.z[i] = static_cast<float>(z);
+  out.ring[i] = valid ? ring : -1;
+  out.state[i] = valid ? PointState::OnGrid : PointState::Invalid;
+  out.grid_pos[i] = -1;
+}
+
+// The common layouts: float32 x, y, z at fixed offsets of `step`-byte records, and either a
+// uint16 ring field (velodyne, unorganized ouster; `has_ring`) or one ring for all (a row of an
+// organized cloud; `fixed_ring`). One loop without branches, early exits or per-point dispatch
+// on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES). Returns the
+// largest ring field read, so the caller can reject the frame after the loop. (Without a ring
+// field, `oring` only has to lie inside the record: the value read there is not used.)
+RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
+                                            std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
+                                            bool has_ring, std::int32_t fixed_ring, double rmin, double rmax,
+                                            double* __restrict range_out, float* __restrict px, float* __restrict py,
+                                            float* __restrict pz, std::int32_t* __restrict ring_out,
+                                            PointState* __restrict state, std::int32_t* __restrict grid_pos)
+{
+  const PointEntries out{range_out, px, py, pz, ring_out, state, grid_pos};
+  std::uint32_t max_read = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint8_t* const rec = data + i * step;
+    const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
+    std::uint16_t r16;
+    std::memcpy(&r16, rec + oring, sizeof r16);
+    max_read = has_ring ? std::max<std::uint32_t>(max_read, r16) : max_read;
+    const std::int32_t ring = has_ring ? static_cast<std::int32_t>(r16) : fixed_ring;
+    storePoint(out, i, fx, fy, fz, ring, rmin, rmax);
+  }
+  return max_read;
+}
+
+// Azimuths of points at once (fastAtan2 is branch-free: 4 or 8 at a time).
+RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const float* __restrict y,
+                             float* __restrict azimuth)
+{
+  for (std::size_t i = 0; i < n; ++i) azimuth[i] = fastAtan2(y[i], x[i]);
+}
+
+// The input pass over records [0, n) of a common layout (see readXyzRecords), with the azimuths.
+std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox,
+                          std::size_t oy, std::size_t oz, std::size_t oring, bool has_ring, std::int32_t fixed_ring,
+                          double rmin, double rmax, double* range_out, float* px, float* py, float* pz, float* paz,
+                          std::int32_t* ring_out, PointState* state, std::int32_t* grid_pos)
+{
+  const std::uint32_t max_read = readXyzRecords(data, n, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax,
+                                                range_out, px, py, pz, ring_out, state, grid_pos);
+  azimuths(n, px, py, paz);
+  return max_read;
+}
+
+}  // namespace
+
+Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid)
+{
+  const std::size_t n = view.size();
+  grid.num_input = n;
+  // Every entry of these is written below (no fill first: one pass over the frame instead of two).
+  grid.state.resize(n);
+  grid.grid_pos.resize(n);
+  ring_of_.resize(n);
+  prange_.resize(n + 1);  // [n]: the ring fold's sentinel range (ring_sort.cpp)
+  paz_.resize(n);
+  px_.resize(n);
+  py_.resize(n);
+  pz_.resize(n);
+  const double rmin = params.min_range, rmax = params.max_range;
+  const auto ringError = [&](std::size_t i, std::int64_t r) {
+    std::ostringstream s;
+    s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
+    return Status::error(s.str());
+  };
+  // The first point whose uint16 ring field is max_rings or more (one is known to be), for the
+  // message: the fast input pass only tracks the largest value read.
+  const auto firstRing16Error = [&]() {
+    std::size_t i = 0;
+    std::uint16_t r16 = 0;
+    for (; i < n; ++i)
+    {
+      std::memcpy(&r16, view.record(i) + view.ring.offset, sizeof r16);
+      if (r16 >= params.max_rings) break;
+    }
+    return ringError(i, r16);
+  };
+  const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
+                    view.z.type == ScalarType::Float32;
+  if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
+  {
+    const std::uint32_t max_read = readRecords(
+        view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
+        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), true, 0, rmin, rmax,
+        prange_.data(), px_.data(), py_.data(), pz_.data(), paz_.data(), ring_of_.data(), grid.state.data(),
+        grid.grid_pos.data());
+    if (max_read >= static_cast<std::uint32_t>(params.max_rings)) return firstRing16Error();
+  }
+  else if (fast && view.organized())
+  {
+    // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
+    for (std::uint32_t row = 0; row < view.height; ++row)
+    {
+      const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
+      const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
+      readRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
+                  static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
+                  static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
+                  prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
+                  ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
+      if (!view.ring.present()) continue;
+      const std::uint8_t* rec = data + view.ring.offset;
+      if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
+      {
+        std::uint32_t largest = 0;
+        for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+        {
+          std::uint16_t r16;
+          std::memcpy(&r16, rec, sizeof r16);
+          largest = std::max<std::uint32_t>(largest, r16);
+        }
+        if (largest < static_cast<std::uint32_t>(params.max_rings)) continue;
+        rec = data + view.ring.offset;  // out of range somewhere: find the first, for the message
+      }
+      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+      {
+        const std::int64_t r = readInteger(rec, view.ring.type);
+        if (r < 0 || r >= params.max_rings) return ringError(i0 + col, r);
+      }
+    }
+  }
+  else
+  {
+    const PointEntries entries{prange_.data(), px_.data(), py_.data(), pz_.data(),
+                               ring_of_.data(), grid.state.data(), grid.grid_pos.data()};
+    for (std::uint32_t row = 0; row < view.height; ++row)
+    {
+      const std::uint8_t* rec = view.data + static_cast<std::size_t>(row) * view.row_step;
+      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+      {
+        const std::size_t i = static_cast<std::size_t>(row) * view.width + col;
+        int ring = static_cast<int>(row);
+        if (view.ring.present())
+        {
+          const std::int64_t r = readInteger(rec + view.ring.offset, view.ring.type);
+          if (r < 0 || r >= params.max_rings) return ringError(i, r);
+          if (!view.organized()) ring = static_cast<int>(r);  // organized: the row is the ring
+        }
+        storePoint(entries, i, readCoord(rec, view.x), readCoord(rec, view.y), readCoord(rec, view.z), ring, rmin,
+                   rmax);
+      }
+    }
+    azimuths(n, px_.data(), py_.data(), paz_.data());
+  }
+  // Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
+  // increments would keep the loops above from vectorizing.
+  // Four interleaved tallies, summed after: rings that arrive one after another (KITTI's, an
+  // organized cloud's) would otherwise chain every increment to the store of the one before.
+  const std::size_t slots = static_cast<std::size_t>(params.max_rings) + 1;
+  ring_count_.assign(4 * slots, 0);
+  {
+    std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
+    const std::int32_t* const ring = ring_of_.data();
+    const auto four = [count, ring, slots](std::size_t i) {
+      ++count[ring[i]];
+      ++count[slots + static_cast<std::size_t>(ring[i + 1])];
+      ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
+      ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
+    };
+    // Sixteen points of one ring (most blocks where rings come one after another) count in one
+    // addition instead of sixteen increments (the comparison vectorizes).
+    // Only where the first points come in runs: interleaved rings (velodyne firing order) would
+    // pay for the comparison in every block.
+    std::size_t changes = 0;
+    const std::size_t probe = std::min<std::size_t>(n, 256);
+    for (std::size_t j = 1; j < probe; ++j) changes += ring[j] != ring[j - 1] ? 1 : 0;
+    std::size_t i = 0;
+    for (; changes < probe / 8 && i + 16 <= n; i += 16)
+    {
+      const std::int32_t r0 = ring[i];
+      int same = 1;
+      for (std::size_t j = 1; j < 16; ++j) same &= ring[i + j] == r0 ? 1 : 0;
+      if (same != 0)
+      {
+        count[r0] += 16;
+        continue;
+      }
+      for (std::size_t j = i; j < i + 16; j += 4) four(j);
+    }
+    for (; i + 4 <= n; i += 4) four(i);
+    for (; i < n; ++i) ++count[ring[i]];
+    for (std::size_t r = 0; r < slots; ++r)
+      ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
+  }
+  int max_ring = -1;
+  for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
+    if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
+  grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
+  return Status::success();
+}
+
+void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)
+{
+  // Histogram of elevation at 0.05 deg; runs of occupied bins (a beam's spread) become rings,
+  // numbered from the lowest elevation up (the velodyne convention).
+  constexpr int kBins = 3600;
+  constexpr float kBinRad = kPi / kBins;
+  const std::size_t n = grid.num_input;
+  counts_.assign(kBins, 0);
+  tmp_f_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (ring_of_[i] < 0) continue;
+    const std::uint8_t* rec = view.record(i);  // unorganized here: no per-point division cost
+    const double x = readCoord(rec, view.x), y = readCoord(rec, view.y), z = readCoord(rec, view.z);
+    const float horiz = static_cast<float>(std::sqrt(x * x + y * y));
+    const float el = fastAtan2(static_cast<float>(z), horiz);
+    tmp_f_[i] = el;
+    const int b = std::clamp(static_cast<int>((el + kPi / 2) / kBinRad), 0, kBins - 1);
+    ++counts_[static_cast<std::size_t>(b)];
+  }
+  bin_start_.assign(kBins, 0);  // ring id of each bin
+  int ring = -1;
+  int last_occupied = -10;
+  for (int b = 0; b < kBins; ++b)
+  {
+    if (counts_[static_cast<std::size_t>(b)] == 0) continue;
+    if (b - last_occupied > 2) ++ring;  // a gap of two empty bins (0.1 deg) separates beams
+    last_occupied = b;
+    bin_start_[static_cast<std::size_t>(b)] = static_cast<std::uint32_t>(ring);
+  }
+  const int num = std::min(ring + 1, params.max_rings);
+  std::fill(ring_count_.begin() + 1, ring_count_.end(), 0u);  // recounted for the new rings
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (ring_of_[i] < 0) continue;
+    const int b = std::clamp(static_cast<int>((tmp_f_[i] + kPi / 2) / kBinRad), 0, kBins - 1);
+    ring_of_[i] = std::min(static_cast<int>(bin_start_[static_cast<std::size_t>(b)]), num - 1);
+    ++ring_count_[static_cast<std::size_t>(ring_of_[i]) + 1];
+  }
+  grid.num_rings = std::max(num, 0);
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,236 @@
+// The grid's measured azimuth resolution: the median spacing of neighbouring samples on a ring,
+// found in one pass over the spacings with a bracket from a sample.
+#include "ring_curvature/scan_grid.hpp"
+#include "grid/scan_grid_builder.hpp"
+#include "common/float_bits.hpp"
+
+#include "common/angles.hpp"
+#include "common/grow.hpp"
+#include "common/simd_clones.hpp"
+
+#include "classification/rank_select.hpp"  // selectNth
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kDeg = kPi / 180.0f;
+
+// The spacings |wrapPi(az[p] - az[p - 1])| of a ring (b, e) to out[0, e - b - 1); organized
+// clouds per column between the two samples (columnSpacings).
+RC_SIMD_CLONES void azimuthSpacings(std::size_t b, std::size_t e, const float* __restrict az, float* __restrict out)
+{
+  for (std::size_t p = b + 1; p < e; ++p) out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1]));
+}
+// `index`: the input indices; in a row of an organized cloud two samples' columns differ by as
+// much as their indices.
+RC_SIMD_CLONES void columnSpacings(std::size_t b, std::size_t e, const float* __restrict az,
+                                   const std::uint32_t* __restrict index, float* __restrict out)
+{
+  for (std::size_t p = b + 1; p < e; ++p)
+    out[p - b - 1] = std::fabs(wrapPi(az[p] - az[p - 1])) / static_cast<float>(index[p] - index[p - 1]);
+}
+
+// Whether a spacing counts: same-firing duplicates (near 0) and gaps (> 5 deg) do not.
+inline bool kept(float d) { return (d > 1e-5f) & (d < 5.0f * kDeg); }
+// The same test on the bits read as a signed integer, for every float: non-negative floats
+// order like their bits, and negative ones (-0 and -NaN included) read as negative integers,
+// +inf and +NaN as integers above those of 5 deg. kept(d) iff keptAbove() < bitsOf(d) < keptUnder().
+inline std::int32_t bitsOf(float v)
+{
+  std::int32_t i;
+  std::memcpy(&i, &v, sizeof i);
+  return i;
+}
+inline std::int32_t keptAbove() { return bitsOf(1e-5f); }
+inline std::int32_t keptUnder() { return bitsOf(5.0f * kDeg); }
+
+// The bracket pass's counts: kept spacings, those of them below the bracket, and those inside.
+struct BracketCounts
+{
+  std::size_t n = 0, below = 0, m = 0;
+};
+
+// The bracket pass over d[0, total) for a bracket [lo, hi] of kept bits (so whatever is inside
+// is kept): the counts, and the bits of those inside appended to in (writing one slot past them).
+RC_SIMD_CLONES BracketCounts bracketPass(const float* d, std::size_t total, std::int32_t lo, std::int32_t hi, std::uint32_t* in)
+{
+  const std::int32_t above = keptAbove(), under = keptUnder();
+  std::size_t n = 0, below = 0, m = 0;
+  for (std::size_t i = 0; i < total; ++i)
+  {
+    const std::int32_t u = bitsOf(d[i]);
+    n += (u > above) & (u < under);
+    below += (u > above) & (u < lo);
+    in[m] = static_cast<std::uint32_t>(u);  // overwritten by the next one unless this one is inside
+    m += (u >= lo) & (u <= hi);
+  }
+  return {n, below, m};
+}
+
+// The keys of ranks k1 <= k2 among keys[0, m), all of them in [base, base + span]: a histogram
+// of the leading bits of key - base, then the same among the keys of the bucket that holds the
+// rank, until one key is left. Both ranks go together while they fall in one bucket (the first
+// digits of a sample); where they part, the second one's bucket is copied to `spare` (room for
+// m) and goes on alone. keys is overwritten. Unlike selectRank, the range is known (no pass for
+// it), and a bracket of a few thousand float steps takes one pass with the answer read off its
+// histogram.
+void rankKeys(std::uint32_t* keys, std::uint32_t* spare, std::size_t m, std::size_t k1, std::size_t k2,
+              std::uint32_t base, std::uint32_t span, std::uint32_t& r1, std::uint32_t& r2)
+{
+  constexpr int kMaxDigit = 12;
+  std::uint32_t counts[1u << kMaxDigit];
+  bool both = true;  // r2 still to find
+  for (;;)
+  {
+    if (span == 0) break;  // every key left is base
+    // Up to about log2(m) bits a digit: clearing and walking a bucket costs about what counting
+    // a key does.
+    int cap = 6;
+    while (cap < kMaxDigit && (std::size_t{1} << cap) < m) ++cap;
+    const int bits = 32 - __builtin_clz(span);
+    const int shift = std::max(0, bits - cap);
+    const std::uint32_t buckets = (span >> shift) + 1;
+    std::fill(counts, counts + buckets, 0u);
+    for (std::size_t i = 0; i < m; ++i) ++counts[(keys[i] - base) >> shift];
+    std::uint32_t b = 0;  // the bucket that holds rank k1, and the count below it
+    std::size_t below = 0;
+    while (below + counts[b] <= k1) below += counts[b++];
+    const auto keep = [&](std::uint32_t* out, std::uint32_t bucket) {  // the bucket's keys to out
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < m; ++i)
+      {
+        const std::uint32_t key = keys[i];
+        out[j] = key;  // overwritten by the next one unless this one is in the bucket
+        j += ((key - base) >> shift) == bucket ? 1 : 0;
+      }
+    };
+    const auto rangeOf = [&](std::uint32_t bucket) { return std::min(span - (bucket << shift), (1u << shift) - 1u); };
+    if (both)
+    {
+      std::uint32_t b2 = b;
+      std::size_t below2 = below;
+      while (below2 + counts[b2] <= k2) below2 += counts[b2++];
+      if (b2 != b)
+      {
+        // The ranks part here: the second one goes on alone among its bucket's keys.
+        both = false;
+        if (shift == 0)
+          r2 = base + b2;
+        else
+        {
+          keep(spare, b2);
+          std::uint32_t same;
+          rankKeys(spare, nullptr, counts[b2], k2 - below2, k2 - below2, base + (b2 << shift), rangeOf(b2), r2, same);
+        }
+      }
+    }
+    if (shift == 0)
+    {
+      base += b;
+      break;
+    }
+    keep(keys, b);
+    m = counts[b];
+    k1 -= below;
+    k2 -= below;
+    base += b << shift;
+    span = rangeOf(b);
+  }
+  r1 = base;
+  if (both) r2 = base;
+}
+}  // namespace
+
+void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
+{
+  if (params.azimuth_resolution_deg > 0.0f)
+  {
+    grid.azimuth_resolution = params.azimuth_resolution_deg * kDeg;
+    return;
+  }
+  // Median spacing of neighbouring samples on the same ring (the kept ones, see kept()): the
+  // element of rank n / 2 of the n kept, as nth_element would give. For organized clouds the
+  // spacing per column. First every ring's spacings, in loops that vectorize.
+  tmp_f_.resize(sorted_az_.size() + 1);
+  float* const d = tmp_f_.data();
+  const float* const az = sorted_az_.data();
+  std::size_t total = 0;
+  // (the rings as they came: identical returns folded by sortRings count here too)
+  std::uint32_t largest = std::max(1u, grid.organized ? 0u : unfolded_largest_);
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    largest = std::max(largest, e - b);
+    if (e - b < 2) continue;
+    if (grid.organized)
+      columnSpacings(b, e, az, tmp_index_.data(), d + total);
+    else
+      azimuthSpacings(b, e, az, d + total);
+    total += e - b - 1;
+  }
+  grid.azimuth_resolution = spacing_median_(d, total, kTwoPi / static_cast<float>(largest));  // none kept
+}
+
+float SpacingMedian::operator()(float* d, std::size_t total, float none)
+{
+  float median;
+  bracketed_ = fromBracket(d, total, median);
+  if (bracketed_) return median;
+  // A small frame (or a missed bracket): the kept spacings compacted without branches, then
+  // the radix selection over all of them.
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < total; ++i)
+  {
+    const float v = d[i];
+    d[n] = v;
+    n += kept(v) ? 1 : 0;
+  }
+  return n > 0 ? selectNth(d, n, n / 2) : none;
+}
+
+bool SpacingMedian::fromBracket(const float* d, std::size_t total, float& median)
+{
+  // Most spacings are about the same value, and a selection over all of them would move nearly
+  // all at every digit. So a bracket [lo, hi] around the median from an even sample of the kept
+  // spacings, then one pass over all spacings that counts the kept ones, those below lo, and
+  // copies out those inside; the selection runs on those few. The result is the element of rank
+  // n / 2 all the same; if the bracket misses that rank (it holds it with overwhelming odds),
+  // this returns false and the caller selects among all. Kept spacings are positive, so their
+  // bits order like them: the selections and the pass work on the bits.
+  constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
+  if (total < 8 * kSample) return false;
+  const std::int32_t above = keptAbove(), under = keptUnder();
+  std::uint32_t sample[kSample], spare[kSample];
+  std::size_t ns = 0;
+  const std::size_t stride = total / kSample;
+  for (std::size_t j = 0; j < kSample; ++j)
+  {
+    const std::int32_t u = bitsOf(d[j * stride]);
+    sample[ns] = static_cast<std::uint32_t>(u);
+    ns += (u > above) & (u < under);
+  }
+  if (ns < kSample / 2) return false;
+  const std::size_t spread = kSpread * ns / kSample;
+  // (every kept key lies in [above + 1, under - 1])
+  std::uint32_t lo, hi;
+  rankKeys(sample, spare, ns, ns / 2 - spread, ns / 2 + spread, static_cast<std::uint32_t>(above) + 1u,
+           static_cast<std::uint32_t>(under - above - 2), lo, hi);
+  growTo(inside_, total + 1);  // (bracketPass writes one slot past the inside ones)
+  std::uint32_t* const in = inside_.data();
+  const BracketCounts c =
+      bracketPass(d, total, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), in);
+  const std::size_t rank = c.n / 2;
+  if (!(c.below <= rank && rank < c.below + c.m)) return false;
+  std::uint32_t key, same;
+  rankKeys(in, nullptr, c.m, rank - c.below, rank - c.below, lo, hi - lo, key, same);
+  median = detail::bitsFloat(key);
+  return true;
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,456 @@
+// Orders the valid points of each ring by azimuth in O(n): a counting sort by ring, then per
+// ring an insertion sort of the nearly sorted firing order (a bucket sort when it is not).
+// Identical dual returns are folded on the way and given their twin's verdict afterwards.
+#include "ring_curvature/scan_grid.hpp"
+#include "grid/scan_grid_builder.hpp"
+#include "common/float_bits.hpp"
+#include "ring_curvature/prefetch.hpp"
+
+#include "common/angles.hpp"
+#include "common/grow.hpp"
+#include "common/simd_clones.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <type_traits>
+
+namespace ring_curvature
+{
+
+namespace
+{
+
+// The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0
+// azimuth is made +0 first, so equal floats give equal keys), with the input index below: one
+// 64-bit comparison is the order (azimuth, input index) exactly, and the sorts move one
+// register-sized value.
+inline std::uint32_t azimuthKey(float azimuth) { return detail::orderedKey(azimuth + 0.0f); }
+inline float keyAzimuth(std::uint64_t key)
+{
+  const auto k = static_cast<std::uint32_t>(key >> 32);
+  return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
+}
+inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
+inline std::uint64_t sortKey(float azimuth, std::size_t i)
+{
+  return (static_cast<std::uint64_t>(azimuthKey(azimuth)) << 32) | static_cast<std::uint32_t>(i);
+}
+
+// How often the ring changes from one point to the next among ring[0, n), in a clone (eight
+// at a time with AVX2). (A 32-bit count: n is below 2^32, point indices are 32-bit throughout.)
+RC_SIMD_CLONES std::size_t ringChanges(const std::int32_t* __restrict ring, std::size_t n)
+{
+  std::uint32_t changes = 0;
+  for (std::size_t i = 1; i < n; ++i) changes += ring[i] != ring[i - 1] ? 1u : 0u;
+  return changes;
+}
+
+// The sort keys of points [i0, i0 + len) from their azimuths az[0, len).
+RC_SIMD_CLONES void sortKeys(const float* __restrict az, std::size_t i0, std::size_t len, std::uint64_t* __restrict key)
+{
+  for (std::size_t j = 0; j < len; ++j) key[j] = sortKey(az[j], i0 + j);
+}
+
+// The sorted keys split into the input indices and the azimuths (in a clone: the baseline build
+// did it two keys at a time).
+RC_SIMD_CLONES void splitKeys(std::size_t m, const std::uint64_t* __restrict keys, std::uint32_t* __restrict index,
+                              float* __restrict az)
+{
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    index[p] = keyIndex(keys[p]);
+    az[p] = keyAzimuth(keys[p]);
+  }
+}
+
+// The azimuth steps of a ring's k keys in their order, step[j] = az[j] - az[j - 1] (j >= 1), a
+// flag where a step goes beyond -pi or pi, and how many steps go down.
+RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, std::size_t k,
+                                          float* __restrict step, std::uint8_t* __restrict wide)
+{
+  std::uint32_t down = 0;
+  for (std::size_t j = 1; j < k; ++j)
+  {
+    const float d = keyAzimuth(src[j]) - keyAzimuth(src[j - 1]);
+    step[j] = d;
+    wide[j] = ((d < -kPi) | (d > kPi)) ? 1 : 0;
+    down += d < 0.0f ? 1u : 0u;
+  }
+  return down;
+}
+
+}  // namespace
+
+void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
+{
+  const std::size_t n = grid.num_input;
+  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
+  // 1) counting sort by ring (stable: keeps firing order; the counts come from readPoints),
+  //    carrying each point's sort key, so that the sorts below work on the ring's keys rather
+  //    than read each point's azimuth through its input index (a scattered read per comparison).
+  grid.ring_begin.assign(R + 1, 0);
+  for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
+  std::size_t m = grid.ring_begin[R];
+  keys_tmp_.resize(m);
+  bin_start_.resize(R + 1);
+  std::uint32_t* const next = bin_start_.data();
+  std::uint64_t* const unsorted = keys_tmp_.data();
+  for (std::size_t r = 0; r < R; ++r) next[r] = grid.ring_begin[r];
+  //    The sort by ring also folds identical returns (see below). Dual-return drivers send both
+  //    returns of a firing, identical where the beam met one surface (half the points of a
+  //    dual-return VLP-16 frame), one or two places apart in the ring's sequence. Such a point
+  //    (same azimuth and range as one of the two points before it in its ring's firing order,
+  //    or of the ring's last two kept points) stays off the sort, and resolveFollowers gives it
+  //    the state and grid position of its twin. That is exactly what removeDuplicates would
+  //    have decided: sorted by (azimuth, index) it comes after its twin, in the same firing
+  //    (same azimuth), never a representative, with the same range, hence the same verdict;
+  //    and the spacings measureResolution keeps do not change (it drops the zero ones). It
+  //    needs same_firing > 0 (`fold_identical`).
+  //    (How each ring arrived, which sortRing needs, is read afterwards from its kept keys,
+  //    which are in firing order: kept alongside the fold, it went through memory at every
+  //    point.)
+  follower_runs_.resize(2 * R + 2);
+  std::size_t runs = 0;
+  prange_[n] = -1.0;  // no point's range: foldRing's start value (readPoints leaves room for it)
+  growTo(followers_, n + 1);  // (foldRing writes one entry past the count)
+  Follower* const followers = followers_.data();
+  std::size_t num_followers = 0;
+  unfolded_largest_ = 0;
+  for (std::size_t r = 0; r < R; ++r) unfolded_largest_ = std::max(unfolded_largest_, ring_count_[r + 1]);
+  const std::int32_t* const ring_of = ring_of_.data();
+  const float* const paz = paz_.data();
+  const double* const prange = prange_.data();
+  // One point, by its sort key, into its ring: `f` and `nx` are the ring's fold state and next
+  // slot, `fold` (std::true_type or std::false_type) whether to fold. (Captures by value but the
+  // count: through references, the compiler reloaded them after every store.)
+  const auto place = [prange, followers, unsorted, &num_followers](std::uint64_t key, RingFold& f, std::uint32_t& nx,
+                                                                   auto fold) {
+    const auto az_key = static_cast<std::uint32_t>(key >> 32);
+    const std::uint32_t i = keyIndex(key);
+    if constexpr (decltype(fold)::value)
+    {
+      // Compared as bits, in integer registers: for these values that is the float comparison
+      // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
+      // finite, and -1, the start value, matches none), without ucomis / setnp pairs.
+      std::uint64_t range;
+      std::memcpy(&range, &prange[i], sizeof range);
+      const bool same1 = (az_key == f.az1) & (range == f.r1), same2 = (az_key == f.az2) & (range == f.r2);
+      if (same1 | same2)
+      {
+        followers[num_followers++] = {i, same1 ? f.i1 : f.i2};
+        return;
+      }
+      f.az2 = f.az1;
+      f.r2 = f.r1;
+      f.i2 = f.i1;
+      f.az1 = az_key;
+      f.r1 = range;
+      f.i1 = i;
+    }
+    unsorted[nx++] = key;
+  };
+  // Folding is only a shortcut (a point left unfolded gets the same verdict from the sort and
+  // removeDuplicates), so a frame in which the first kFoldProbe points fold nothing, a
+  // single-return frame, skips the test for the rest.
+  constexpr std::size_t kFoldProbe = 4096;
+  // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
+  // come, with the current ring's state in registers. Rings interleaved point by point
+  // (velodyne firing order) are scattered first and then folded ring by ring.
+  if (ringChanges(ring_of, n) > n / 8)
+  {
+    // Scattered whole, then folded ring by ring (foldRing, ring_fold.cpp): each ring's keys are
+    // then contiguous and in firing order, and the fold keeps the two keys before each in
+    // registers, where folding while scattering loaded each ring's last two keys and ranges at
+    // every point. Probed as the other branch is: when the first kFoldProbe keys, ring by ring,
+    // fold nothing, the other rings are left as they are.
+    scatterInterleaved(0, n);
+    if (fold_identical)
+    {
+      std::size_t tested = 0;
+      for (std::size_t r = 0; r < R && (num_followers > 0 || tested < kFoldProbe); ++r)
+      {
+        const std::uint32_t b = grid.ring_begin[r], k = next[r] - b;
+        const auto first = static_cast<std::uint32_t>(num_followers);
+        next[r] = b + foldRing(unsorted + b, k, n, prange, followers, num_followers);
+        tested += k;
+        if (num_followers > first)  // the ring's followers, for resolveFollowers
+        {
+          follower_runs_[2 * runs] = first;
+          follower_runs_[2 * runs++ + 1] = static_cast<std::uint32_t>(num_followers);
+        }
+      }
+    }
+  }
+  else
+  {
+    ring_fold_.assign(R, RingFold{});  // each ring's state while another ring's points come
+    RingFold* const fold = ring_fold_.data();
+    std::int32_t cur = -1;
+    RingFold f{};
+    std::uint32_t nx = 0;
+    // Points [from, to) in input order, folding or not.
+    const auto run = [&](std::size_t from, std::size_t to, auto folding) {
+      for (std::size_t i = from; i < to; ++i)
+      {
+        const std::int32_t r = ring_of[i];
+        if (r < 0) continue;
+        if (r != cur)
+        {
+          if (cur >= 0)
+          {
+            fold[cur] = f;
+            next[cur] = nx;
+          }
+          cur = r;
+          f = fold[r];
+          nx = next[r];
+        }
+        place(sortKey(paz[i], i), f, nx, folding);
+      }
+    };
+    const std::size_t probe = fold_identical ? std::min(n, kFoldProbe) : 0;
+    run(0, probe, std::true_type{});
+    if (num_followers > 0)
+      run(probe, n, std::true_type{});
+    else
+      run(probe, n, std::false_type{});
+    if (cur >= 0)
+    {
+      fold[cur] = f;
+      next[cur] = nx;
+    }
+  }
+
+  num_followers_ = num_followers;
+  if (runs == 0 && num_followers > 0)  // (rings one after another: one run, in input order)
+  {
+    follower_runs_[0] = 0;
+    follower_runs_[1] = static_cast<std::uint32_t>(num_followers);
+    runs = 1;
+  }
+  num_follower_runs_ = runs;
+  // 2) per ring, order the keys: (azimuth, input index) is a strict total order, so the result
+  //    depends neither on the order the points came in nor on which sort finishes the ring.
+  //    The rings close up over the folded points as they are sorted.
+  //    (The kept counts are taken first: sortRing's bucket sort reuses bin_start_, i.e. next.)
+  //    Each ring is sorted into a buffer of one ring's keys and split into the grid's input
+  //    indices and azimuths right away, while its keys are in L1: sorted into one array of the
+  //    frame's keys and split after the last ring, the split read them all back from memory.
+  ring_kept_.resize(R);
+  std::uint32_t largest = 0;
+  m = 0;
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    ring_kept_[r] = next[r] - grid.ring_begin[r];
+    largest = std::max(largest, ring_kept_[r]);
+    m += ring_kept_[r];
+  }
+  keys_.resize(largest);
+  tmp_index_.resize(m);
+  sorted_az_.resize(m);
+  std::uint32_t kept = 0;
+  for (std::size_t r = 0; r < R; ++r)
+  {
+    const std::uint32_t b = grid.ring_begin[r], k = ring_kept_[r];  // (before ring r's entry is rewritten)
+    grid.ring_begin[r] = kept;
+    sortRing(unsorted + b, keys_.data(), k);
+    splitKeys(k, keys_.data(), tmp_index_.data() + kept, sorted_az_.data() + kept);
+    kept += k;
+  }
+  grid.ring_begin[R] = kept;
+}
+
+void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
+{
+  // Points [from, to) in input order into their rings' next slots, their keys made a block at a
+  // time in a loop that vectorizes (made in the scatter loop, the key was half of its work).
+  // (Restrict locals: a key's store could alias next[], which would be reloaded.)
+  const std::int32_t* __restrict const ring_of = ring_of_.data();
+  const float* __restrict const paz = paz_.data();
+  std::uint32_t* __restrict const next = bin_start_.data();
+  std::uint64_t* __restrict const unsorted = keys_tmp_.data();
+  constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
+  constexpr std::size_t kScatterAhead = 32;  // keys (four lines)
+  alignas(64) std::uint64_t keys[kBlock];
+  for (std::size_t i0 = from; i0 < to; i0 += kBlock)
+  {
+    const std::size_t len = std::min(kBlock, to - i0);
+    sortKeys(paz + i0, i0, len, keys);
+    for (std::size_t j = 0; j < len; ++j)
+    {
+      const std::int32_t r = ring_of[i0 + j];
+      if (r < 0) continue;
+      // Each ring's slots are a store stream of their own, sixteen to 64 of them interleaved
+      // point by point, more than the hardware's stream prefetch follows, and their lines were
+      // last written a frame ago: the line kScatterAhead keys ahead of this ring's cursor is
+      // asked for (one prefetch a key, most of them to a line already asked for).
+      detail::prefetchForWrite(unsorted, (std::size_t{next[r]} + kScatterAhead) * sizeof *unsorted);
+      unsorted[next[r]++] = keys[j];
+    }
+  }
+}
+
+void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
+{
+  if (k < 2)
+  {
+    std::copy(src, src + k, dst);
+    return;
+  }
+  // How the ring arrived, in firing order: how often it steps down in azimuth, and where its
+  // largest drop and rise are (the first of equals; only steps beyond -pi / pi count). The
+  // steps and the count in a loop that vectorizes; the few steps beyond +-pi (the seam, once
+  // or twice a ring) are then found eight flags at a time, and compared in order.
+  growTo(steps_, k);
+  growTo(wide_, k);
+  const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
+  std::uint32_t wrap_fwd = 0, wrap_bwd = 0;
+  {
+    float drop = -kPi, rise = kPi;
+    const auto visit = [&](std::uint32_t j) {
+      const float d = steps_[j];
+      if (d < drop)
+      {
+        drop = d;
+        wrap_fwd = j;
+      }
+      if (d > rise)
+      {
+        rise = d;
+        wrap_bwd = j;
+      }
+    };
+    std::uint32_t j = 1;
+    for (; j + 8 <= k; j += 8)
+    {
+      std::uint64_t any;
+      std::memcpy(&any, wide_.data() + j, sizeof any);
+      if (any == 0) continue;
+      for (std::uint32_t t = j; t < j + 8; ++t)
+        if (wide_[t]) visit(t);
+    }
+    for (; j < k; ++j)
+      if (wide_[j]) visit(j);
+  }
+  // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
+  // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
+  // the firing sequence. Read backwards if mostly decreasing, starting after the wrap, such a
+  // ring is nearly sorted and an insertion sort finishes it in about linear time; a move budget
+  // hands anything else to the bucket sort below, so no frame goes quadratic.
+  {
+    // The seam both ways round: a step down by more than pi read forwards is a step up by more
+    // than pi read backwards. (Any choice of seam gives the same final order; it only decides
+    // how much the insertion sort has to move.)
+    const std::size_t budget = 8 * static_cast<std::size_t>(k);
+    std::size_t moves = 0;
+    std::uint32_t j = 0;  // keys placed so far
+    auto insert = [&](std::uint64_t v) {
+      std::uint32_t q = j++;
+      while (q > 0 && v < dst[q - 1] && moves < budget)
+      {
+        dst[q] = dst[q - 1];
+        --q;
+        ++moves;
+      }
+      dst[q] = v;
+    };
+    // The reading order is the sequence rotated to start after the wrap (and reversed first when
+    // mostly decreasing): read straight from src, instead of reversing and rotating it in place.
+    const auto forwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[lo], ..., src[hi - 1]
+      for (std::uint32_t i = lo; i < hi && moves < budget; ++i) insert(src[i]);
+    };
+    const auto backwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[hi - 1], ..., src[lo]
+      for (std::uint32_t t = hi; t > lo && moves < budget; --t) insert(src[t - 1]);
+    };
+    if (down > k / 2)
+    {
+      const std::uint32_t start = wrap_bwd > 0 ? wrap_bwd - 1 : k - 1;  // reversed, then rotated
+      backwards(0, start + 1);
+      backwards(start + 1, k);
+    }
+    else
+    {
+      forwards(wrap_fwd, k);
+      forwards(0, wrap_fwd);
+    }
+    if (moves < budget) return;
+  }
+  // Bucket sort by azimuth with about one bucket per point, then the order inside each bucket
+  // (insertion sort for small buckets, std::sort for crowded ones: no quadratic case).
+  std::uint32_t nb = 16;
+  while (nb < k) nb <<= 1;
+  const float scale = static_cast<float>(nb) / kTwoPi;
+  auto binOf = [&](std::uint64_t key) {
+    return std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((keyAzimuth(key) + kPi) * scale));
+  };
+  counts_.assign(nb + 1, 0);
+  for (std::uint32_t j = 0; j < k; ++j) ++counts_[binOf(src[j]) + 1];
+  for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
+  bin_start_.assign(counts_.begin(), counts_.end() - 1);
+  for (std::uint32_t j = 0; j < k; ++j) dst[bin_start_[binOf(src[j])]++] = src[j];
+  for (std::uint32_t j = 0; j < nb; ++j)
+  {
+    const std::uint32_t lo = counts_[j], hi = counts_[j + 1];
+    if (hi - lo < 2) continue;
+    if (hi - lo <= 16)
+    {
+      for (std::uint32_t p = lo + 1; p < hi; ++p)
+      {
+        const std::uint64_t v = dst[p];
+        std::uint32_t q = p;
+        while (q > lo && v < dst[q - 1])
+        {
+          dst[q] = dst[q - 1];
+          --q;
+        }
+        dst[q] = v;
+      }
+    }
+    else
+    {
+      std::sort(dst + lo, dst + hi);
+    }
+  }
+}
+
+void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
+{
+  // In list order within each ring: a follower's twin is a point of its ring that was kept
+  // (placed on the sort), whose state removeDuplicates has decided, or, from foldRing, possibly a
+  // follower listed before it in its ring (a third identical return), whose verdict is set by
+  // then. The rings' lists (runs, in input order each) go side by side, the followers of each
+  // ring below `limit` in turn: their twins lie one firing apart in the input, so a ring's list
+  // went through the whole of state and grid_pos, a line or two a follower; side by side, the
+  // rings' followers in one stretch of the input share its lines. Rings one after another
+  // (KITTI) are one run, in list order.
+  PointState* const state = grid.state.data();
+  std::int32_t* const grid_pos = grid.grid_pos.data();
+  // The duplicates counted in a register: incremented through `++(duplicate ? a : b)`, each one
+  // waited on the store of the one before (nearly every follower of a dual-return frame is one).
+  std::size_t duplicates = 0;
+  const Follower* const followers = followers_.data();
+  std::uint32_t* const runs = follower_runs_.data();  // each run's next follower, and its end
+  const std::size_t num_runs = num_follower_runs_;
+  constexpr std::size_t kBlock = 2048;  // input points
+  for (std::size_t limit = kBlock; limit < grid.num_input + kBlock; limit += kBlock)
+    for (std::size_t l = 0; l < num_runs; ++l)
+    {
+      std::uint32_t k = runs[2 * l];
+      const std::uint32_t e = runs[2 * l + 1];
+      for (; k < e && followers[k].point < limit; ++k)
+      {
+        const Follower& f = followers[k];
+        const PointState twin = state[f.of];
+        const PointState s = twin == PointState::OnGrid ? PointState::Duplicate : twin;
+        state[f.point] = s;
+        grid_pos[f.point] = grid_pos[f.of];  // the twin's position, or its representative's
+        duplicates += s == PointState::Duplicate ? 1 : 0;
+      }
+      runs[2 * l] = k;
+    }
+  grid.num_duplicates += duplicates;
+  grid.num_second_returns += num_followers_ - duplicates;
+  grid.num_folded = num_followers_;
+}
+
+}  // namespace ring_curvature

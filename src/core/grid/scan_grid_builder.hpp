@@ -1,0 +1,88 @@
+// The grid stage: builds the ring x azimuth ScanGrid from a PointCloudView in O(n). Its steps,
+// one file each in this folder: the checks of the view (cloud_view_checks.cpp), the input pass
+// (input_pass.cpp), the organized placement (organized_placement.cpp), the ring sort and the
+// fold of identical returns (ring_sort.cpp, ring_fold.cpp), the azimuth resolution
+// (resolution.cpp), duplicates and links (scan_grid_builder.cpp) and the vertical neighbours
+// (vertical_neighbours.cpp).
+#pragma once
+
+#include "grid/spacing_median.hpp"
+#include "ring_curvature/params.hpp"
+#include "ring_curvature/scan_grid.hpp"
+#include "ring_curvature/types.hpp"
+#include "ring_curvature/uninitialized_vector.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace ring_curvature
+{
+
+/// Builds a ScanGrid from a view, reusing its own scratch buffers between frames.
+class ScanGridBuilder
+{
+public:
+  /// Validates the view against `params` (sizes, fields, ring range) and builds the grid.
+  /// On error the grid is left empty and the status names the problem.
+  Status build(const PointCloudView& view, const Params& params, ScanGrid& grid);
+
+private:
+  Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
+  void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
+  /// The last two points kept of a ring as they came (azimuth key, range bits, input index),
+  /// to fold identical returns (ring_sort.cpp).
+  struct RingFold
+  {
+    std::uint32_t az1 = 0, az2 = 0;
+    // the bits of -1.0 at first: no valid range is negative, so nothing matches before two points
+    std::uint64_t r1 = 0xBFF0000000000000u, r2 = 0xBFF0000000000000u;
+    std::uint32_t i1 = 0, i2 = 0;
+  };
+  /// A point identical (azimuth and range) to an earlier one of its ring, kept off the sort.
+  struct Follower
+  {
+    std::uint32_t point, of;
+  };
+  void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
+  /// Scatters points [from, to) of rings interleaved point by point into their rings (ring_sort.cpp).
+  void scatterInterleaved(std::size_t from, std::size_t to);
+  /// Folds one ring's k keys in firing order in place (ring_fold.cpp): keeps a key unless its
+  /// azimuth and range equal those of one of the two keys before it as they came, and lists the
+  /// others in `followers` from `num_followers` on (one entry past the count is written).
+  /// `sentinel` is a key whose range (range[index]) no point has. Returns the number kept.
+  static std::uint32_t foldRing(std::uint64_t* keys, std::uint32_t k, std::uint64_t sentinel, const double* range,
+                                Follower* followers, std::size_t& num_followers);
+  void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
+  void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
+  void placeOrganized(const PointCloudView& view, ScanGrid& grid);  // organized_placement.cpp
+  void measureResolution(const Params& params, ScanGrid& grid);  // resolution.cpp
+  void removeDuplicates(const Params& params, ScanGrid& grid);
+  void linkRings(const Params& params, ScanGrid& grid);
+  void findVerticalNeighbours(ScanGrid& grid);
+
+  // scratch, per input point
+  std::vector<std::int32_t> ring_of_;
+  std::vector<std::uint32_t> ring_count_;  // [0]: invalid points, [r + 1]: valid points of ring r
+  std::vector<double> prange_;
+  std::vector<float> paz_;
+  UninitializedVector<float> px_, py_, pz_;  // each point's coordinates as float32
+  // scratch, per ring / bin
+  std::vector<std::uint32_t> counts_, bin_start_;
+  UninitializedVector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
+  UninitializedVector<float> sorted_az_;          // and its azimuth
+  UninitializedVector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
+  std::vector<RingFold> ring_fold_;
+  std::vector<float> steps_;        // one ring's azimuth steps in firing order (sortRing)
+  std::vector<std::uint8_t> wide_;  // and where they go beyond +-pi
+  std::vector<Follower> followers_;  // the first num_followers_ are this frame's
+  std::size_t num_followers_ = 0;
+  std::vector<std::uint32_t> follower_runs_;  // (begin, end) in followers_ of each ring's (resolveFollowers)
+  std::size_t num_follower_runs_ = 0;
+  std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
+  std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
+  std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
+  SpacingMedian spacing_median_;
+};
+
+}  // namespace ring_curvature

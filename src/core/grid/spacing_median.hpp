@@ -1,0 +1,31 @@
+// The median azimuth spacing of a frame, by selection over the bits of the spacings.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace ring_curvature
+{
+
+/// The grid's measured azimuth resolution from the spacings d[0, total) of neighbouring samples
+/// on a ring (each |difference| >= 0, or NaN): the median of the kept ones (above 1e-5 rad: not
+/// a same-firing duplicate; below 5 deg: not a gap), i.e. the element of rank n / 2 of the n
+/// kept, as nth_element would give; `none` when none is kept. Keeps its scratch between frames
+/// (resolution.cpp; a class of its own so that the tests reach both of its paths).
+class SpacingMedian
+{
+public:
+  /// d is overwritten when the frame is small or the sample's bracket misses.
+  float operator()(float* d, std::size_t total, float none);
+  /// Whether the last call found the median inside the bracket from its sample (else it
+  /// selected among all the kept spacings).
+  bool bracketed() const { return bracketed_; }
+
+private:
+  bool fromBracket(const float* d, std::size_t total, float& median);
+  std::vector<std::uint32_t> inside_;  // the bits of the kept spacings near the median
+  bool bracketed_ = false;
+};
+
+}  // namespace ring_curvature

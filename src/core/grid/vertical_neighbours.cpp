@@ -1,0 +1,105 @@
+// The nearest sample on the ring above each grid position (ScanGrid::up): a merge walk along two
+// sorted rings and the choice among three candidates for unorganized clouds, the same column one
+// row up for organized ones.
+#include "ring_curvature/scan_grid.hpp"
+#include "grid/scan_grid_builder.hpp"
+
+#include "common/angles.hpp"
+#include "common/simd_clones.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ring_curvature
+{
+
+namespace
+{
+
+// The nearest sample above each position p of a ring (b, e), with up[p] the last sample of the
+// ring above (ub, ue) at or before p's azimuth (or ub): of up[p], its successor (around the
+// seam) and the ring's last one, the nearest azimuth circularly, the first of equals in that
+// order. Branch-free: which one wins is a coin toss per point. |wrapPi(d)| for |d| < 2 pi is
+// |d| or 2 pi - |d|, the same float operations.
+RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t ub, std::uint32_t ue,
+                                 const float* __restrict az, std::int32_t* __restrict up)
+{
+  const float last = az[ue - 1];
+  for (std::uint32_t p = b; p < e; ++p)
+  {
+    const float a = az[p];
+    const std::uint32_t q = static_cast<std::uint32_t>(up[p]);
+    const std::uint32_t c1 = q + 1 < ue ? q + 1 : ub;
+    const float d0 = circularDistance(az[q] - a), d1 = circularDistance(az[c1] - a),
+                d2 = circularDistance(last - a);
+    std::uint32_t best = d1 < d0 ? c1 : q;
+    const float bd = d1 < d0 ? d1 : d0;
+    best = d2 < bd ? ue - 1 : best;
+    up[p] = static_cast<std::int32_t>(best);
+  }
+}
+
+// The walk for a ring (b, e) under the ring above (ub, ue): up[p] the last sample above at or
+// before p's azimuth (or ub), which nearestAbove then turns into the nearest.
+void walkAbove(const float* az, std::int32_t* up, std::uint32_t b, std::uint32_t e, std::uint32_t ub,
+               std::uint32_t ue)
+{
+  std::uint32_t q = ub;
+  for (std::uint32_t p = b; p < e; ++p)
+  {
+    const float a = az[p];
+    while (q + 1 < ue && az[q + 1] <= a) ++q;
+    up[p] = static_cast<std::int32_t>(q);
+  }
+}
+
+// Organized: the grid position of the point one row up of each position p < m.
+RC_SIMD_CLONES void upOrganized(std::size_t m, std::size_t width, const std::uint32_t* __restrict index,
+                                const std::int32_t* __restrict grid_pos, std::int32_t* __restrict up)
+{
+  for (std::size_t p = 0; p < m; ++p) up[p] = grid_pos[index[p] + width];
+}
+
+}  // namespace
+
+void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
+{
+  const std::size_t m = grid.size();
+  if (grid.organized)
+  {
+    // The same column one row up: its grid position, which is -1 for a point off the grid (an
+    // organized cloud has no duplicates, and the input pass set every point's to -1 before the
+    // grid positions were written), so no test per point; the top ring has no row above.
+    grid.up.resize(m);
+    const std::size_t width = grid.num_input / static_cast<std::size_t>(grid.num_rings);
+    const std::uint32_t top = grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1];
+    upOrganized(top, width, grid.index.data(), grid.grid_pos.data(), grid.up.data());
+    std::fill(grid.up.begin() + top, grid.up.end(), -1);
+    return;
+  }
+  // Every position of a ring followed by a non-empty one is written below; only the others are
+  // filled with -1 (a fill of all of them first wrote every entry twice).
+  grid.up.resize(m);
+  // Two sorted sequences: walk them together to the last sample above at or before each
+  // azimuth, then take the nearest of it, its successor (around the seam) and the last one.
+  // The walk only stores where it stopped (in `up`); the choice is a loop of its own that
+  // vectorizes (nearestAbove), where in one loop with the walk's branches it would not.
+  const float* const az = grid.azimuth.data();
+  std::int32_t* const up = grid.up.data();
+  for (int n = 0; n + 1 < grid.num_rings; ++n)
+  {
+    const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
+    const std::uint32_t ub = e, ue = grid.ring_begin[static_cast<std::size_t>(n) + 2];
+    if (ub == ue)
+    {
+      std::fill(up + b, up + e, -1);
+      continue;
+    }
+    walkAbove(az, up, b, e, ub, ue);
+    nearestAbove(b, e, ub, ue, az, up);
+  }
+  if (grid.num_rings > 0)  // the top ring has none above it
+    std::fill(up + grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1], up + m, -1);
+}
+
+}  // namespace ring_curvature

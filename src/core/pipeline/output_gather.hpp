@@ -1,0 +1,41 @@
+// The pipeline's last stage: the per-grid-position results gathered back to input order, and
+// the label counts.
+#pragma once
+
+#include "ring_curvature/scan_grid.hpp"
+#include "ring_curvature/types.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+namespace ring_curvature
+{
+namespace detail
+{
+
+// The per-point outputs and where they come from (raw pointers: a label is a byte, and a byte
+// store may alias anything, so through the vectors the compiler reloaded every data pointer after
+// each label store).
+struct OutputArrays
+{
+  const PointState* state;
+  const std::int32_t* grid_pos;
+  const std::uint8_t* label;  // per grid position
+  const float *curvature, *smoothness, *discontinuity;
+  const std::int32_t* primitive;
+  std::uint8_t* out_label;  // per input point
+  float *out_curvature, *out_smoothness, *out_discontinuity;
+  std::int32_t* out_primitive;
+};
+
+/// Input points [i0, i1) get their grid position's results (OnGrid, or Duplicate: their
+/// representative's), the others none (Label::None, NaN, -1). grid_size > 0.
+void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1);
+/// The same one point at a time, for any grid size.
+void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1);
+/// Points of each label but None among labels[0, n) (counts[0] is left alone).
+void countLabels(const std::uint8_t* labels, std::size_t n, std::array<std::uint32_t, kNumLabels>& counts);
+
+}  // namespace detail
+}  // namespace ring_curvature

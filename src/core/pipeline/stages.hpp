@@ -1,0 +1,28 @@
+// The pipeline's stages and the products they hand on, held by Pipeline (pipeline.hpp).
+#pragma once
+
+#include "classification/classifier.hpp"
+#include "grid/scan_grid_builder.hpp"
+#include "features/feature_computer.hpp"
+#include "primitives/primitive_extractor.hpp"
+#include "ring_curvature/pipeline.hpp"
+#include "ring_curvature/scan_grid.hpp"
+
+#include <vector>
+
+namespace ring_curvature
+{
+
+struct Pipeline::Stages
+{
+  ScanGridBuilder grid_builder;
+  FeatureComputer feature_computer;
+  Classifier classifier;
+  PrimitiveExtractor primitive_extractor;
+  ScanGrid grid;
+  Features features;
+  std::vector<RingThresholds> thresholds;
+  std::vector<Label> labels;
+};
+
+}  // namespace ring_curvature
