@@ -32,7 +32,7 @@ set(RC_CORE_SOURCES
 #   which stops loops with square roots from vectorizing (sqrt is correctly rounded either way).
 # -fno-trapping-math: nor does it read FP exception flags; lets `c ? a / b : nan` if-convert.
 # -ffp-contract=off: no fused multiply-adds formed behind the code's back. They round once where
-#   two operations round twice, so an FMA target (AArch64's default, AVX-512 clones) would give
+#   two operations round twice, so an FMA target (AArch64 contracts by default) would give
 #   other bits than x86-64's baseline; with this every architecture computes the same labels.
 set(RC_CORE_OPTIONS -fno-math-errno -fno-trapping-math -ffp-contract=off)
 # The stages' private headers, included as "stage/file.hpp" (and the shared ones by name).
