@@ -5,6 +5,7 @@ set(RC_CORE_SOURCES
   src/core/grid/input_pass.cpp
   src/core/grid/organized_placement.cpp
   src/core/grid/ring_sort.cpp
+  src/core/grid/ring_order.cpp
   src/core/grid/ring_fold.cpp
   src/core/grid/resolution.cpp
   src/core/grid/vertical_neighbours.cpp

@@ -96,6 +96,13 @@ std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t s
   return max_read;
 }
 
+// The error for point i whose ring field holds r, outside [0, max_rings).
+Status ringOutOfRange(std::size_t i, std::int64_t r, const Params& params)
+{
+  std::ostringstream s;
+  s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
+  return Status::error(s.str());
+}
 }  // namespace
 
 Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid)
@@ -112,11 +119,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   py_.resize(n);
   pz_.resize(n);
   const double rmin = params.min_range, rmax = params.max_range;
-  const auto ringError = [&](std::size_t i, std::int64_t r) {
-    std::ostringstream s;
-    s << "point " << i << " has ring " << r << ", outside [0, max_rings = " << params.max_rings << ")";
-    return Status::error(s.str());
-  };
+  const auto ringError = [&](std::size_t i, std::int64_t r) { return ringOutOfRange(i, r, params); };
   // The first point whose uint16 ring field is max_rings or more (one is known to be), for the
   // message: the fast input pass only tracks the largest value read.
   const auto firstRing16Error = [&]() {
@@ -131,6 +134,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   };
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
+  Status st = Status::success();
   if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
   {
     const std::uint32_t max_read = readRecords(
@@ -142,36 +146,8 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   }
   else if (fast && view.organized())
   {
-    // organized float32 (ouster): row by row, the row is the ring; a ring field is only checked
-    for (std::uint32_t row = 0; row < view.height; ++row)
-    {
-      const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
-      const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
-      readRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
-                  static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
-                  static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
-                  prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
-                  ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
-      if (!view.ring.present()) continue;
-      const std::uint8_t* rec = data + view.ring.offset;
-      if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
-      {
-        std::uint32_t largest = 0;
-        for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
-        {
-          std::uint16_t r16;
-          std::memcpy(&r16, rec, sizeof r16);
-          largest = std::max<std::uint32_t>(largest, r16);
-        }
-        if (largest < static_cast<std::uint32_t>(params.max_rings)) continue;
-        rec = data + view.ring.offset;  // out of range somewhere: find the first, for the message
-      }
-      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
-      {
-        const std::int64_t r = readInteger(rec, view.ring.type);
-        if (r < 0 || r >= params.max_rings) return ringError(i0 + col, r);
-      }
-    }
+    st = readOrganizedRows(view, params, grid);
+    if (!st) return st;
   }
   else
   {
@@ -196,8 +172,56 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     }
     azimuths(n, px_.data(), py_.data(), paz_.data());
   }
-  // Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
-  // increments would keep the loops above from vectorizing.
+  countRings(n, params);
+  int max_ring = -1;
+  for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
+    if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
+  grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
+  return Status::success();
+}
+
+// Organized float32 clouds (ouster), row by row: the row is the ring; a ring field is only
+// checked.
+Status ScanGridBuilder::readOrganizedRows(const PointCloudView& view, const Params& params, ScanGrid& grid)
+{
+  const double rmin = params.min_range, rmax = params.max_range;
+  const auto ringError = [&](std::size_t i, std::int64_t r) { return ringOutOfRange(i, r, params); };
+  for (std::uint32_t row = 0; row < view.height; ++row)
+  {
+    const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
+    const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
+    readRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
+                static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
+                static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
+                prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
+                ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
+    if (!view.ring.present()) continue;
+    const std::uint8_t* rec = data + view.ring.offset;
+    if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
+    {
+      std::uint32_t largest = 0;
+      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+      {
+        std::uint16_t r16;
+        std::memcpy(&r16, rec, sizeof r16);
+        largest = std::max<std::uint32_t>(largest, r16);
+      }
+      if (largest < static_cast<std::uint32_t>(params.max_rings)) continue;
+      rec = data + view.ring.offset;  // out of range somewhere: find the first, for the message
+    }
+    for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
+    {
+      const std::int64_t r = readInteger(rec, view.ring.type);
+      if (r < 0 || r >= params.max_rings) return ringError(i0 + col, r);
+    }
+  }
+  return Status::success();
+}
+
+// Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
+// increments would keep the input loops from vectorizing.
+void ScanGridBuilder::countRings(std::size_t n, const Params& params)
+{
   // Four interleaved tallies, summed after: rings that arrive one after another (KITTI's, an
   // organized cloud's) would otherwise chain every increment to the store of the one before.
   const std::size_t slots = static_cast<std::size_t>(params.max_rings) + 1;
@@ -235,12 +259,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
     for (; i < n; ++i) ++count[ring[i]];
     for (std::size_t r = 0; r < slots; ++r)
       ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
-  }
-  int max_ring = -1;
-  for (int r = params.max_rings - 1; r >= 0 && max_ring < 0; --r)
-    if (ring_count_[static_cast<std::size_t>(r) + 1] > 0) max_ring = r;
-  grid.num_rings = view.organized() ? static_cast<int>(view.height) : max_ring + 1;
-  return Status::success();
+}
 }
 
 void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)

@@ -1,9 +1,10 @@
 // Orders the valid points of each ring by azimuth in O(n): a counting sort by ring, then per
-// ring an insertion sort of the nearly sorted firing order (a bucket sort when it is not).
-// Identical dual returns are folded on the way and given their twin's verdict afterwards.
+// ring the sort of ring_order.cpp. Identical dual returns are folded on the way and given their
+// twin's verdict afterwards.
 #include "ring_curvature/scan_grid.hpp"
 #include "grid/scan_grid_builder.hpp"
 #include "common/float_bits.hpp"
+#include "grid/sort_keys.hpp"
 #include "ring_curvature/prefetch.hpp"
 
 #include "common/angles.hpp"
@@ -17,24 +18,12 @@
 namespace ring_curvature
 {
 
+using detail::keyAzimuth;
+using detail::keyIndex;
+using detail::sortKey;
+
 namespace
 {
-
-// The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0
-// azimuth is made +0 first, so equal floats give equal keys), with the input index below: one
-// 64-bit comparison is the order (azimuth, input index) exactly, and the sorts move one
-// register-sized value.
-inline std::uint32_t azimuthKey(float azimuth) { return detail::orderedKey(azimuth + 0.0f); }
-inline float keyAzimuth(std::uint64_t key)
-{
-  const auto k = static_cast<std::uint32_t>(key >> 32);
-  return detail::bitsFloat((k & 0x80000000u) != 0 ? k ^ 0x80000000u : ~k);
-}
-inline std::uint32_t keyIndex(std::uint64_t key) { return static_cast<std::uint32_t>(key); }
-inline std::uint64_t sortKey(float azimuth, std::size_t i)
-{
-  return (static_cast<std::uint64_t>(azimuthKey(azimuth)) << 32) | static_cast<std::uint32_t>(i);
-}
 
 // How often the ring changes from one point to the next among ring[0, n), in a clone (eight
 // at a time with AVX2). (A 32-bit count: n is below 2^32, point indices are 32-bit throughout.)
@@ -63,22 +52,10 @@ RC_SIMD_CLONES void splitKeys(std::size_t m, const std::uint64_t* __restrict key
   }
 }
 
-// The azimuth steps of a ring's k keys in their order, step[j] = az[j] - az[j - 1] (j >= 1), a
-// flag where a step goes beyond -pi or pi, and how many steps go down.
-RC_SIMD_CLONES std::uint32_t arrivalSteps(const std::uint64_t* __restrict src, std::size_t k,
-                                          float* __restrict step, std::uint8_t* __restrict wide)
-{
-  std::uint32_t down = 0;
-  for (std::size_t j = 1; j < k; ++j)
-  {
-    const float d = keyAzimuth(src[j]) - keyAzimuth(src[j - 1]);
-    step[j] = d;
-    wide[j] = ((d < -kPi) | (d > kPi)) ? 1 : 0;
-    down += d < 0.0f ? 1u : 0u;
-  }
-  return down;
-}
-
+// Folding is only a shortcut (a point left unfolded gets the same verdict from the sort and
+// removeDuplicates), so a frame in which the first kFoldProbe points fold nothing, a
+// single-return frame, skips the test for the rest.
+constexpr std::size_t kFoldProbe = 4096;
 }  // namespace
 
 void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
@@ -90,12 +67,9 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    than read each point's azimuth through its input index (a scattered read per comparison).
   grid.ring_begin.assign(R + 1, 0);
   for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
-  std::size_t m = grid.ring_begin[R];
-  keys_tmp_.resize(m);
+  keys_tmp_.resize(grid.ring_begin[R]);
   bin_start_.resize(R + 1);
-  std::uint32_t* const next = bin_start_.data();
-  std::uint64_t* const unsorted = keys_tmp_.data();
-  for (std::size_t r = 0; r < R; ++r) next[r] = grid.ring_begin[r];
+  for (std::size_t r = 0; r < R; ++r) bin_start_[r] = grid.ring_begin[r];
   //    The sort by ring also folds identical returns (see below). Dual-return drivers send both
   //    returns of a firing, identical where the beam met one surface (half the points of a
   //    dual-return VLP-16 frame), one or two places apart in the ring's sequence. Such a point
@@ -113,13 +87,76 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   std::size_t runs = 0;
   prange_[n] = -1.0;  // no point's range: foldRing's start value (readPoints leaves room for it)
   growTo(followers_, n + 1);  // (foldRing writes one entry past the count)
-  Follower* const followers = followers_.data();
   std::size_t num_followers = 0;
   unfolded_largest_ = 0;
   for (std::size_t r = 0; r < R; ++r) unfolded_largest_ = std::max(unfolded_largest_, ring_count_[r + 1]);
   const std::int32_t* const ring_of = ring_of_.data();
+  // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
+  // come, with the current ring's state in registers. Rings interleaved point by point
+  // (velodyne firing order) are scattered first and then folded ring by ring.
+  if (ringChanges(ring_of, n) > n / 8)
+    runs = foldScattered(grid, fold_identical, num_followers);
+  else
+    placeInOrder(grid, fold_identical, num_followers);
+  num_followers_ = num_followers;
+  if (runs == 0 && num_followers > 0)  // (rings one after another: one run, in input order)
+  {
+    follower_runs_[0] = 0;
+    follower_runs_[1] = static_cast<std::uint32_t>(num_followers);
+    runs = 1;
+  }
+  num_follower_runs_ = runs;
+  sortEachRing(grid);
+}
+
+// Rings interleaved point by point: scattered whole, then folded ring by ring; returns the runs
+// of followers listed in follower_runs_.
+std::size_t ScanGridBuilder::foldScattered(ScanGrid& grid, bool fold_identical, std::size_t& num_followers)
+{
+  const std::size_t n = grid.num_input;
+  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
+  std::uint32_t* const next = bin_start_.data();
+  std::uint64_t* const unsorted = keys_tmp_.data();
+  const double* const prange = prange_.data();
+  Follower* const followers = followers_.data();
+  std::size_t runs = 0;
+  // Scattered whole, then folded ring by ring (foldRing, ring_fold.cpp): each ring's keys are
+  // then contiguous and in firing order, and the fold keeps the two keys before each in
+  // registers, where folding while scattering loaded each ring's last two keys and ranges at
+  // every point. Probed as the other branch is: when the first kFoldProbe keys, ring by ring,
+  // fold nothing, the other rings are left as they are.
+  scatterInterleaved(0, n);
+  if (fold_identical)
+  {
+    std::size_t tested = 0;
+    for (std::size_t r = 0; r < R && (num_followers > 0 || tested < kFoldProbe); ++r)
+    {
+      const std::uint32_t b = grid.ring_begin[r], k = next[r] - b;
+      const auto first = static_cast<std::uint32_t>(num_followers);
+      next[r] = b + foldRing(unsorted + b, k, n, prange, followers, num_followers);
+      tested += k;
+      if (num_followers > first)  // the ring's followers, for resolveFollowers
+      {
+        follower_runs_[2 * runs] = first;
+        follower_runs_[2 * runs++ + 1] = static_cast<std::uint32_t>(num_followers);
+      }
+    }
+  }
+  return runs;
+}
+
+// Rings one after another: each point placed (and folded) as it comes, the current ring's state
+// in registers.
+void ScanGridBuilder::placeInOrder(ScanGrid& grid, bool fold_identical, std::size_t& num_followers)
+{
+  const std::size_t n = grid.num_input;
+  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
+  std::uint32_t* const next = bin_start_.data();
+  std::uint64_t* const unsorted = keys_tmp_.data();
+  const std::int32_t* const ring_of = ring_of_.data();
   const float* const paz = paz_.data();
   const double* const prange = prange_.data();
+  Follower* const followers = followers_.data();
   // One point, by its sort key, into its ring: `f` and `nx` are the ring's fold state and next
   // slot, `fold` (std::true_type or std::false_type) whether to fold. (Captures by value but the
   // count: through references, the compiler reloaded them after every store.)
@@ -149,86 +186,51 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
     }
     unsorted[nx++] = key;
   };
-  // Folding is only a shortcut (a point left unfolded gets the same verdict from the sort and
-  // removeDuplicates), so a frame in which the first kFoldProbe points fold nothing, a
-  // single-return frame, skips the test for the rest.
-  constexpr std::size_t kFoldProbe = 4096;
-  // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
-  // come, with the current ring's state in registers. Rings interleaved point by point
-  // (velodyne firing order) are scattered first and then folded ring by ring.
-  if (ringChanges(ring_of, n) > n / 8)
-  {
-    // Scattered whole, then folded ring by ring (foldRing, ring_fold.cpp): each ring's keys are
-    // then contiguous and in firing order, and the fold keeps the two keys before each in
-    // registers, where folding while scattering loaded each ring's last two keys and ranges at
-    // every point. Probed as the other branch is: when the first kFoldProbe keys, ring by ring,
-    // fold nothing, the other rings are left as they are.
-    scatterInterleaved(0, n);
-    if (fold_identical)
+  ring_fold_.assign(R, RingFold{});  // each ring's state while another ring's points come
+  RingFold* const fold = ring_fold_.data();
+  std::int32_t cur = -1;
+  RingFold f{};
+  std::uint32_t nx = 0;
+  // Points [from, to) in input order, folding or not.
+  const auto run = [&](std::size_t from, std::size_t to, auto folding) {
+    for (std::size_t i = from; i < to; ++i)
     {
-      std::size_t tested = 0;
-      for (std::size_t r = 0; r < R && (num_followers > 0 || tested < kFoldProbe); ++r)
+      const std::int32_t r = ring_of[i];
+      if (r < 0) continue;
+      if (r != cur)
       {
-        const std::uint32_t b = grid.ring_begin[r], k = next[r] - b;
-        const auto first = static_cast<std::uint32_t>(num_followers);
-        next[r] = b + foldRing(unsorted + b, k, n, prange, followers, num_followers);
-        tested += k;
-        if (num_followers > first)  // the ring's followers, for resolveFollowers
+        if (cur >= 0)
         {
-          follower_runs_[2 * runs] = first;
-          follower_runs_[2 * runs++ + 1] = static_cast<std::uint32_t>(num_followers);
+          fold[cur] = f;
+          next[cur] = nx;
         }
+        cur = r;
+        f = fold[r];
+        nx = next[r];
       }
+      place(sortKey(paz[i], i), f, nx, folding);
     }
-  }
+  };
+  const std::size_t probe = fold_identical ? std::min(n, kFoldProbe) : 0;
+  run(0, probe, std::true_type{});
+  if (num_followers > 0)
+    run(probe, n, std::true_type{});
   else
+    run(probe, n, std::false_type{});
+  if (cur >= 0)
   {
-    ring_fold_.assign(R, RingFold{});  // each ring's state while another ring's points come
-    RingFold* const fold = ring_fold_.data();
-    std::int32_t cur = -1;
-    RingFold f{};
-    std::uint32_t nx = 0;
-    // Points [from, to) in input order, folding or not.
-    const auto run = [&](std::size_t from, std::size_t to, auto folding) {
-      for (std::size_t i = from; i < to; ++i)
-      {
-        const std::int32_t r = ring_of[i];
-        if (r < 0) continue;
-        if (r != cur)
-        {
-          if (cur >= 0)
-          {
-            fold[cur] = f;
-            next[cur] = nx;
-          }
-          cur = r;
-          f = fold[r];
-          nx = next[r];
-        }
-        place(sortKey(paz[i], i), f, nx, folding);
-      }
-    };
-    const std::size_t probe = fold_identical ? std::min(n, kFoldProbe) : 0;
-    run(0, probe, std::true_type{});
-    if (num_followers > 0)
-      run(probe, n, std::true_type{});
-    else
-      run(probe, n, std::false_type{});
-    if (cur >= 0)
-    {
-      fold[cur] = f;
-      next[cur] = nx;
-    }
+    fold[cur] = f;
+    next[cur] = nx;
   }
+}
 
-  num_followers_ = num_followers;
-  if (runs == 0 && num_followers > 0)  // (rings one after another: one run, in input order)
-  {
-    follower_runs_[0] = 0;
-    follower_runs_[1] = static_cast<std::uint32_t>(num_followers);
-    runs = 1;
-  }
-  num_follower_runs_ = runs;
+// 2) per ring, order the keys.
+void ScanGridBuilder::sortEachRing(ScanGrid& grid)
+{
+  const std::size_t R = static_cast<std::size_t>(grid.num_rings);
+  std::uint32_t* const next = bin_start_.data();
+  const std::uint64_t* const unsorted = keys_tmp_.data();
+  std::size_t m = 0;
   // 2) per ring, order the keys: (azimuth, input index) is a strict total order, so the result
   //    depends neither on the order the points came in nor on which sort finishes the ring.
   //    The rings close up over the folded points as they are sorted.
@@ -238,7 +240,6 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    frame's keys and split after the last ring, the split read them all back from memory.
   ring_kept_.resize(R);
   std::uint32_t largest = 0;
-  m = 0;
   for (std::size_t r = 0; r < R; ++r)
   {
     ring_kept_[r] = next[r] - grid.ring_begin[r];
@@ -286,129 +287,6 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
       // asked for (one prefetch a key, most of them to a line already asked for).
       detail::prefetchForWrite(unsorted, (std::size_t{next[r]} + kScatterAhead) * sizeof *unsorted);
       unsorted[next[r]++] = keys[j];
-    }
-  }
-}
-
-void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
-{
-  if (k < 2)
-  {
-    std::copy(src, src + k, dst);
-    return;
-  }
-  // How the ring arrived, in firing order: how often it steps down in azimuth, and where its
-  // largest drop and rise are (the first of equals; only steps beyond -pi / pi count). The
-  // steps and the count in a loop that vectorizes; the few steps beyond +-pi (the seam, once
-  // or twice a ring) are then found eight flags at a time, and compared in order.
-  growTo(steps_, k);
-  growTo(wide_, k);
-  const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
-  std::uint32_t wrap_fwd = 0, wrap_bwd = 0;
-  {
-    float drop = -kPi, rise = kPi;
-    const auto visit = [&](std::uint32_t j) {
-      const float d = steps_[j];
-      if (d < drop)
-      {
-        drop = d;
-        wrap_fwd = j;
-      }
-      if (d > rise)
-      {
-        rise = d;
-        wrap_bwd = j;
-      }
-    };
-    std::uint32_t j = 1;
-    for (; j + 8 <= k; j += 8)
-    {
-      std::uint64_t any;
-      std::memcpy(&any, wide_.data() + j, sizeof any);
-      if (any == 0) continue;
-      for (std::uint32_t t = j; t < j + 8; ++t)
-        if (wide_[t]) visit(t);
-    }
-    for (; j < k; ++j)
-      if (wide_[j]) visit(j);
-  }
-  // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
-  // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
-  // the firing sequence. Read backwards if mostly decreasing, starting after the wrap, such a
-  // ring is nearly sorted and an insertion sort finishes it in about linear time; a move budget
-  // hands anything else to the bucket sort below, so no frame goes quadratic.
-  {
-    // The seam both ways round: a step down by more than pi read forwards is a step up by more
-    // than pi read backwards. (Any choice of seam gives the same final order; it only decides
-    // how much the insertion sort has to move.)
-    const std::size_t budget = 8 * static_cast<std::size_t>(k);
-    std::size_t moves = 0;
-    std::uint32_t j = 0;  // keys placed so far
-    auto insert = [&](std::uint64_t v) {
-      std::uint32_t q = j++;
-      while (q > 0 && v < dst[q - 1] && moves < budget)
-      {
-        dst[q] = dst[q - 1];
-        --q;
-        ++moves;
-      }
-      dst[q] = v;
-    };
-    // The reading order is the sequence rotated to start after the wrap (and reversed first when
-    // mostly decreasing): read straight from src, instead of reversing and rotating it in place.
-    const auto forwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[lo], ..., src[hi - 1]
-      for (std::uint32_t i = lo; i < hi && moves < budget; ++i) insert(src[i]);
-    };
-    const auto backwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[hi - 1], ..., src[lo]
-      for (std::uint32_t t = hi; t > lo && moves < budget; --t) insert(src[t - 1]);
-    };
-    if (down > k / 2)
-    {
-      const std::uint32_t start = wrap_bwd > 0 ? wrap_bwd - 1 : k - 1;  // reversed, then rotated
-      backwards(0, start + 1);
-      backwards(start + 1, k);
-    }
-    else
-    {
-      forwards(wrap_fwd, k);
-      forwards(0, wrap_fwd);
-    }
-    if (moves < budget) return;
-  }
-  // Bucket sort by azimuth with about one bucket per point, then the order inside each bucket
-  // (insertion sort for small buckets, std::sort for crowded ones: no quadratic case).
-  std::uint32_t nb = 16;
-  while (nb < k) nb <<= 1;
-  const float scale = static_cast<float>(nb) / kTwoPi;
-  auto binOf = [&](std::uint64_t key) {
-    return std::min<std::uint32_t>(nb - 1, static_cast<std::uint32_t>((keyAzimuth(key) + kPi) * scale));
-  };
-  counts_.assign(nb + 1, 0);
-  for (std::uint32_t j = 0; j < k; ++j) ++counts_[binOf(src[j]) + 1];
-  for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
-  bin_start_.assign(counts_.begin(), counts_.end() - 1);
-  for (std::uint32_t j = 0; j < k; ++j) dst[bin_start_[binOf(src[j])]++] = src[j];
-  for (std::uint32_t j = 0; j < nb; ++j)
-  {
-    const std::uint32_t lo = counts_[j], hi = counts_[j + 1];
-    if (hi - lo < 2) continue;
-    if (hi - lo <= 16)
-    {
-      for (std::uint32_t p = lo + 1; p < hi; ++p)
-      {
-        const std::uint64_t v = dst[p];
-        std::uint32_t q = p;
-        while (q > lo && v < dst[q - 1])
-        {
-          dst[q] = dst[q - 1];
-          --q;
-        }
-        dst[q] = v;
-      }
-    }
-    else
-    {
-      std::sort(dst + lo, dst + hi);
     }
   }
 }

@@ -133,6 +133,24 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   measureResolution(params, grid);
   if (!view.organized()) removeDuplicates(params, grid);
 
+  gatherGrid(view, grid);
+  if (!view.organized()) resolveFollowers(grid);  // needs the grid positions just set
+  // The Duplicate points in ascending input order (their grid_pos was set by removeDuplicates).
+  grid.duplicates.clear();
+  if (grid.num_duplicates > 0)
+  {
+    grid.duplicates.resize(grid.num_input + 1);  // (listDuplicates writes one slot past them)
+    grid.duplicates.resize(listDuplicates(grid.state.data(), grid.num_input, grid.duplicates.data()));
+  }
+  linkRings(params, grid);
+  findVerticalNeighbours(grid);
+  return Status::success();
+}
+
+// The structure-of-arrays grid in final order: coordinates, ranges, grid positions and each
+// ring's mean elevation.
+void ScanGridBuilder::gatherGrid(const PointCloudView& view, ScanGrid& grid)
+{
   // Gather the structure-of-arrays grid in final order. For float32 clouds x, y, z come from
   // the input pass's float copies, 12 bytes a point where the records are 22 (velodyne) or 48
   // (ouster); the values are the same (float32 widens to double exactly). Other clouds are read
@@ -201,17 +219,6 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
     grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));
   }
-  if (!view.organized()) resolveFollowers(grid);  // needs the grid positions just set
-  // The Duplicate points in ascending input order (their grid_pos was set by removeDuplicates).
-  grid.duplicates.clear();
-  if (grid.num_duplicates > 0)
-  {
-    grid.duplicates.resize(grid.num_input + 1);  // (listDuplicates writes one slot past them)
-    grid.duplicates.resize(listDuplicates(grid.state.data(), grid.num_input, grid.duplicates.data()));
-  }
-  linkRings(params, grid);
-  findVerticalNeighbours(grid);
-  return Status::success();
 }
 
 void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)

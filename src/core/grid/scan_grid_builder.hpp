@@ -28,7 +28,9 @@ public:
   Status build(const PointCloudView& view, const Params& params, ScanGrid& grid);
 
 private:
-  Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);
+  Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);  // input_pass.cpp
+  Status readOrganizedRows(const PointCloudView& view, const Params& params, ScanGrid& grid);
+  void countRings(std::size_t n, const Params& params);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
   /// The last two points kept of a ring as they came (azimuth key, range bits, input index),
   /// to fold identical returns (ring_sort.cpp).
@@ -45,6 +47,9 @@ private:
     std::uint32_t point, of;
   };
   void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
+  std::size_t foldScattered(ScanGrid& grid, bool fold_identical, std::size_t& num_followers);
+  void placeInOrder(ScanGrid& grid, bool fold_identical, std::size_t& num_followers);
+  void sortEachRing(ScanGrid& grid);
   /// Scatters points [from, to) of rings interleaved point by point into their rings (ring_sort.cpp).
   void scatterInterleaved(std::size_t from, std::size_t to);
   /// Folds one ring's k keys in firing order in place (ring_fold.cpp): keeps a key unless its
@@ -55,8 +60,19 @@ private:
                                 Follower* followers, std::size_t& num_followers);
   void resolveFollowers(ScanGrid& grid);                 // ring_sort.cpp
   void sortRing(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
+  /// How ring keys src[0, k) arrived: steps down in azimuth (returned), and where its largest
+  /// drop and rise beyond -pi / pi are.
+  std::uint32_t arrivalWraps(const std::uint64_t* src, std::uint32_t k, std::uint32_t& wrap_fwd,
+                             std::uint32_t& wrap_bwd);
+  /// Insertion sort in the order the ring arrived (nearly sorted); false when it ran out of its
+  /// move budget (dst then holds nothing of use).
+  static bool sortAsArrived(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k, std::uint32_t down,
+                            std::uint32_t wrap_fwd, std::uint32_t wrap_bwd);
+  /// Bucket sort by azimuth, for any order.
+  void bucketSort(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);  // organized_placement.cpp
   void measureResolution(const Params& params, ScanGrid& grid);  // resolution.cpp
+  void gatherGrid(const PointCloudView& view, ScanGrid& grid);
   void removeDuplicates(const Params& params, ScanGrid& grid);
   void linkRings(const Params& params, ScanGrid& grid);
   void findVerticalNeighbours(ScanGrid& grid);
