@@ -15,15 +15,12 @@ namespace detail
 {
 namespace
 {
-// Eight lanes (GCC vector extension, element-wise: the same bits as scalar code on every
-// architecture).
+// Eight lanes (GCC vector extension, element-wise: the same bits as scalar code everywhere).
 using V8f = float __attribute__((vector_size(32)));
 using V8i = std::int32_t __attribute__((vector_size(32)));
 
-// Stores the lanes of v whose `in` lanes are set (all ones) at out + m, in order, and advances m.
-// Writes all eight lanes: those past the kept ones are overwritten by the next call or unused.
-// Where the wanted values (a few percent, anywhere in the ring) were flagged first and blocks
-// holding one copied, that branch mispredicted about half the time.
+// Stores the lanes of v whose `in` lanes are set at out + m, in order, and advances m (writes all
+// eight). Branch-free: the wanted values are few and anywhere, so a branch would mispredict.
 __attribute__((always_inline)) inline void appendLanes(const V8f& v, std::uint32_t mask, float* out, std::size_t& m)
 {
   V8i lane;
@@ -73,8 +70,6 @@ __attribute__((always_inline)) inline std::size_t appendGroups(std::size_t i, st
 }
 }  // namespace
 
-// Copies the values of x[0, n) (no sign bit set) in bin b0 or b1 to out (room for n + 8), in
-// order; returns how many.
 RC_SIMD_CLONES std::size_t binCandidates(const float* x, std::size_t n, std::uint32_t b0, std::uint32_t b1, float* out)
 {
   const auto c0 = static_cast<std::int32_t>(b0), c1 = static_cast<std::int32_t>(b1);
@@ -96,8 +91,6 @@ RC_SIMD_CLONES std::size_t binCandidates(const float* x, std::size_t n, std::uin
   return m;
 }
 
-// Copies the deviations |x - med| in [lo, hi] to out (room for n + 8), in order; returns how
-// many, and in `under` how many deviations are below lo (NaN: in neither).
 RC_SIMD_CLONES std::size_t bandCandidates(const float* x, std::size_t n, float med, float lo, float hi, float* out,
                                           std::size_t& under)
 {

@@ -16,13 +16,9 @@ namespace
 {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Whether x[0, n) can be binned (false when a value has its sign bit set: negative, -0 or a
-// negative NaN, which the bins cannot order; the caller takes the general path then), and the
-// bins its values fall in: `lowest`, the bin of the smallest value other than +0 (zeros are
-// common, and a search up from bin 0 would cross every empty bin between them and the rest),
-// and `highest`, that of the largest finite value. Also how many values are finite and how many
-// lie below `cut` (a finite float >= 0), both counted on the bits (exact for floats with a
-// clear sign bit; void when the answer is false).
+// Whether x[0, n) can be binned (no sign bit set: the bins cannot order -0, negatives or -NaN); its
+// `lowest` bin but +0's (so searches skip the empty bins after the zeros), `highest` finite bin, and
+// counts of finite values and of those below `cut` (>= 0), on the bits (exact for a clear sign bit).
 RC_SIMD_CLONES bool binRange(const float* x, std::size_t n, float cut, std::uint32_t& lowest, std::uint32_t& highest,
                              std::size_t& finite, std::size_t& under)
 {
@@ -56,16 +52,10 @@ float floorCut(float out, float scale)
   return 0.0f;
 }
 
-// The deviations |v - med| of the values of a bin lie between bounds set by the bin's edges
-// (float subtraction is monotonic), growing with the distance from med's bin on either side.
-// Taking med's bin, then the others in increasing order of their lower (upper) bound until more
-// than `rank` values are taken, the last bound taken is a lower (with med's bin's own, an upper)
-// bound of the rank-th deviation, the MAD.
-// Bins are taken one at a time, empty ones too (they add nothing, so the bins with values are
-// taken in the same order and the walk ends at the same one): a step without a branch, where
-// skipping the empty ones mispredicted at every gap. Only the stretches where no value can be,
-// (0, lowest) and (highest, +inf), are jumped. The two walks (lower and upper bound) step
-// together: two independent chains of dependent steps.
+// A bin's deviations |v - med| lie between bounds set by its edges (float subtraction is monotonic):
+// taking bins by increasing lower (upper) bound until more than `rank` values are taken, the last
+// bound bounds the MAD. Empty bins are taken too (no branch), only (0, lowest) and (highest, +inf)
+// jumped; the lower and upper walks step together (two independent dependency chains).
 struct DeviationWalk
 {
   std::uint32_t up, dn;  // next bin above; one past the next below
@@ -107,15 +97,9 @@ void deviationBounds(const BinnedRing& r, std::uint32_t med_bin, float med, std:
   hi = std::max(b.d, own);
 }
 
-// An upper bound of the MAD whatever the median in bin med_bin: a value of bin j deviates from
-// any median of med_bin by at most the distance between their farthest edges (float subtraction
-// is monotonic), and the bins taken outwards in increasing order of that bound until more than
-// `rank` values are taken leave the rank-th deviation at or below the last bound taken. The same
-// walk as deviationBounds, from the histogram alone: no exact median needed.
-// Whether median + scale * MAD < out is certain from the histogram alone: top + scale * (the
-// ceiling) < out, with top the upper edge of med_bin. The bounds taken only grow along the walk
-// (it takes the smaller of two growing sequences), and float + and * by scale >= 0 are monotonic,
-// so the walk stops, false, at the first bound that already reaches out.
+// Whether median + scale * MAD < out is certain from the histogram alone: the walk on the farthest
+// edges' distances bounds the MAD for any median in med_bin, and top + scale * bound (top: its upper
+// edge) only grows along it (monotonic float + and *): false at the first bound reaching out.
 bool ceilingBelow(const BinnedRing& r, std::uint32_t med_bin, std::size_t rank, float scale, float out)
 {
   const float top = highEdge(med_bin), bottom = lowEdge(med_bin);
@@ -130,9 +114,8 @@ bool ceilingBelow(const BinnedRing& r, std::uint32_t med_bin, std::size_t rank, 
   return top + scale * w.d < out;
 }
 
-// Value of rank k in c[0, m) (m > k), the wanted bins' values. Few: counted for each value, those
-// below it and those not above it (branch-free and vectorized, where nth_element's comparisons
-// mispredict half the time; twice as fast up to ~50). Without -0 or NaN, equal means same bits.
+// Value of rank k in c[0, m) (m > k): few, so per value those below and not above it are counted,
+// branch-free (nth_element's comparisons mispredict). Without -0 or NaN, equal means same bits.
 float selectCandidate(float* c, std::size_t m, std::size_t k)
 {
   if (m > 48) return selectNth(c, m, k);
@@ -151,7 +134,6 @@ float selectCandidate(float* c, std::size_t m, std::size_t k)
 
 }  // namespace
 
-// Q25 and Q75 of the finite values of x[0, n); false when they need the general path.
 RC_SIMD_CLONES bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r, float& lo, float& hi)
 {
   std::size_t finite, under;
@@ -176,16 +158,10 @@ RC_SIMD_CLONES bool binnedQuartiles(const float* x, std::size_t n, BinnedRing& r
   return true;
 }
 
-// max(out, median + k * 1.4826 * MAD) of the finite values of x[0, n) (out unchanged when none
-// is finite); false when they need the general path.
 RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k, BinnedRing& r, float& out)
 {
-  // The floor `out` usually wins (a ring's typical roughness or jump lies far below what noise
-  // alone can produce): when upper bounds of the median and the MAD give less than `out`, so
-  // does the exact value (float + and * by a scale >= 0 are monotonic), and the work for it is
-  // skipped. `<`: max(v, out) is then out. First from two counts: if more than `rank` values lie
-  // below `cut`, the median does, and so do the deviations of those values from it (both in
-  // [0, cut)), so the MAD is at most cut: no histogram at all.
+  // The floor `out` usually wins (roughness lies far below noise): if upper bounds of median and MAD
+  // give less, so does the exact value. First from counts: over `rank` values below `cut` bound both.
   const float scale = k * kMadToSigma;
   std::size_t finite, under;
   if (!binRange(x, n, floorCut(out, scale), r.lowest, r.highest, finite, under)) return false;
@@ -195,8 +171,7 @@ RC_SIMD_CLONES bool binnedMedianPlusKMad(const float* x, std::size_t n, float k,
   r.countBins(x, n);
   std::size_t below = 0;
   const std::uint32_t b = r.findFirst(rank, below);
-  // Then from the histogram: the median's bin and the MAD's ceiling (ceilingBelow); when
-  // they suffice, the two passes over the ring and the two selections are skipped.
+  // Then from the histogram: the median's bin and the MAD's ceiling may suffice (ceilingBelow).
   if (scale >= 0.0f && ceilingBelow(r, b, rank, scale, out))
   {
     r.release();

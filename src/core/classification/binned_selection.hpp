@@ -16,20 +16,17 @@ namespace detail
 
 constexpr float kMadToSigma = 1.4826f;  // MAD of a normal distribution is 0.6745 sigma
 
-// Ring features are non-negative (angles, variances, relative errors; NaN where undefined), and
-// the bits of a non-negative float order like the float: bits >> 20 (exponent and three mantissa
-// bits, eighths of a binade) bin a ring's values with no key transform and no copy. The ring is
-// read in place; only the values of the bins that hold the wanted ranks (one to three percent)
-// are copied out for the exact selection.
-constexpr int kBinShift = 20;  // finer bins (19, 18) took more instructions (longer bound walks)
+// Ring features are non-negative (NaN where undefined), and a non-negative float's bits order like
+// it: bits >> 20 (exponent and three mantissa bits, eighths of a binade) bin the values in place,
+// with no key transform; only the wanted bins' values are copied out for the exact selection.
+constexpr int kBinShift = 20;  // finer bins mean longer bound walks
 constexpr std::uint32_t kBins = 1u << (31 - kBinShift);          // every float with a clear sign bit
 constexpr std::uint32_t kFiniteBins = 0x7F800000u >> kBinShift;  // the rest: +inf and NaN (exponent all ones)
 inline float lowEdge(std::uint32_t bin) { return bitsFloat(bin << kBinShift); }
 inline float highEdge(std::uint32_t bin) { return bitsFloat(((bin + 1) << kBinShift) - 1); }
 
 // One ring's counts per bin. Between rings every counter is zero: a ring clears only the bins its
-// values can fall in (+0's, [lowest, highest] and the non-finite ones; 170 to 230 bins on average
-// on the test bags) where a memset of the whole histogram per ring and feature cost more.
+// values can fall in (+0's, [lowest, highest], the non-finite), not the whole histogram.
 struct BinnedRing
 {
   float* cand;  // the wanted values (n + 8: the vector copy stores whole groups of eight)
@@ -38,8 +35,7 @@ struct BinnedRing
   std::uint32_t more[3][kBins] = {};  // tallies of positions 1, 2, 3 mod 4, merged into count
 
   // Counts the values per bin (no sign bit set, range from binRange). Four interleaved tallies:
-  // neighbours' values often share a bin, and with one array every increment waited for the
-  // store of the one before.
+  // neighbours often share a bin, and one array would chain each increment to the store before.
   void countBins(const float* x, std::size_t n)
   {
     std::size_t i = 0;

@@ -49,10 +49,9 @@ std::uint32_t nextPair(const Label* lab, const std::uint8_t* linked, std::uint32
   return u;
 }
 
-// Labelling kernels for grid positions [b, b + n): branch-free over raw pointers, so that they
-// vectorize (the division and the double product are cheap four or two at a time, and a label
-// store would otherwise make the compiler reload every pointer). An ablated feature (paper
-// Table 2) reaches them as a threshold no value exceeds. Isolated points stay None.
+// Labelling kernels for positions [b, b + n): branch-free over raw pointers so that they vectorize
+// (a label store would otherwise make the compiler reload every pointer). An ablated feature
+// (paper Table 2) arrives as a threshold no value exceeds. Isolated points stay None.
 
 // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
 RC_SIMD_CLONES void labelQuartile(const Features& f, std::size_t b, std::size_t n, const RingThresholds& t, bool use_curvature,
@@ -116,13 +115,11 @@ RC_SIMD_CLONES void labelRobust(const Features& f, const double* range_b, std::s
 void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std::uint32_t b, std::uint32_t e,
                                    bool closed, std::vector<Label>& labels)
 {
-  // Keep only the peak turning angle of each run of Edge candidates: a crease seen through
-  // chords of h samples lights up h samples on each side of it. Runs are followed around the
-  // seam of a closed ring, so a crease on the seam is kept once.
+  // Keep only each Edge run's peak turning angle: a crease seen through chords of h samples lights
+  // up h samples each side. Runs go around a closed ring's seam, so a crease there is kept once.
   const std::uint32_t K = e - b;
   if (K == 0) return;
-  // Raw pointers: a label store may alias anything, and reloads of the vectors' data pointers
-  // after each one kept the loops below from running lean.
+  // Raw pointers: a label store may alias anything, so the vectors' data pointers would be reloaded.
   Label* const lab = labels.data() + b;
   const std::uint8_t* const linked = grid.linked.data() + b;
   const float* const turning = f.turning.data() + b;
@@ -135,26 +132,20 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
     if (k == K) return;  // the whole ring is one run: nothing to compare against
     start = k;
   }
-  // The walk visits u = start .. start + K - 1, at sample u or u - K: a wrap-around index
-  // instead of a division per sample.
+  // The walk visits u = start .. start + K - 1, at sample u or u - K (no division per sample).
   const std::uint32_t end = start + K;
   auto at = [K](std::uint32_t u) { return u < K ? u : u - K; };
   for (std::uint32_t u = start; u < end;)
   {
-    // Most samples are no feature, and most runs are one sample (KITTI: 58 %, VLP-16: 44 %),
-    // which needs nothing (an Edge alone is its own peak; a Corner stays): skip to the first
-    // sample followed by one of its run, before the seam, across it and after it. (Walking the
-    // runs of one sample cost a few mispredicted loop exits each.)
+    // Most samples are no feature and most runs one sample, which needs nothing (an Edge alone is
+    // its own peak; a Corner stays): skip to the first sample followed by one of its run.
     if (u + 1 < K) u = nextPair(lab, linked, u, std::min(end - 1, K - 1));
     if (u == K - 1 && u + 1 < end && !(isFeature(lab[K - 1]) && isFeature(lab[0]) && linked[0])) ++u;
     if (u >= K && u + 1 < end) u = K + nextPair(lab, linked, u - K, end - 1 - K);
     if (u + 1 >= end) break;
-    // The run [u, v), walked once: its Edges become Planes as it goes, and the peak found on the
-    // way is put back after (unless the run touches a Corner: a run touching a Corner is the
-    // jump's own footprint, and the Corner already marks it). The peak is the first largest turn
-    // among the run's Edges (none when every turn is NaN). One loop, not three (the run's end,
-    // its peak, the labels), each of whose exits mispredicted; branch-free inside, as Edges and
-    // Corners, and the turns within a run, come in no predictable order.
+    // The run [u, v), walked once, branch-free inside: its Edges become Planes, and the peak (first
+    // largest turn among them; none if all NaN) is put back after, unless the run touches a Corner
+    // (then it is the jump's footprint, which the Corner already marks).
     bool touches_corner = false;
     std::uint32_t arg = K;
     float best = -1.0f;
@@ -179,8 +170,7 @@ void Classifier::suppressNonMaxima(const ScanGrid& grid, const Features& f, std:
 void Classifier::classify(const ScanGrid& grid, const Features& f, const Params& P,
                           const std::vector<RingThresholds>& thr, std::vector<Label>& labels)
 {
-  // No fill with None first: the rings partition the grid, and each ring's kernel below writes
-  // every one of its positions (resize writes only what a larger frame adds).
+  // No fill first: the rings partition the grid, and each ring's kernel writes all its positions.
   labels.resize(grid.size());
   const bool quartile = P.classifier_mode == ClassifierMode::Quartile;
   const float sigma = P.range_noise;

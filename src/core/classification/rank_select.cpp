@@ -19,14 +19,9 @@ using detail::rankOf;
 // Value of rank k in v[0, n) (reordered, never overwritten).
 float selectRank(float* v, std::size_t n, std::size_t k)
 {
-  // Radix selection, most significant digit first: each pass counts the digit of the remaining
-  // candidates and moves those in the bucket that holds rank k to the front. Same element as
-  // nth_element, but without its unpredictable comparisons, which made this the second largest
-  // cost of a frame (perf). The digits start at the highest bit in which the keys differ: the
-  // values of one selection often share their sign, exponent and leading mantissa bits (the
-  // azimuth spacings of a frame agree to ~1 %), and fixed digits from bit 31 down spent whole
-  // passes over every value to learn nothing. The k-th key does not depend on the digits.
-  // Swaps (or copies out to a local buffer), never overwrites: callers reuse all n values.
+  // Radix selection, most significant digit first (nth_element's element without its unpredictable
+  // comparisons). Digits start at the highest bit in which the keys differ, as a selection's values
+  // often share sign, exponent and leading bits. Never overwrites: callers reuse all n values.
   std::size_t m = n;
   float* c = v;
   if (m <= 32)
@@ -54,8 +49,7 @@ float selectRank(float* v, std::size_t n, std::size_t k)
   float local[kLocal + 1];
   while (m > 32)
   {
-    // Digit width from the candidate count: a ring's few thousand values would otherwise spend
-    // more time clearing, scanning and merging 2 x 2048 counters than counting themselves.
+    // Digit width from the candidate count: few values should not clear and scan 2 x 2048 counters.
     int digit = 6;
     while (digit < kDigit && (std::size_t{1} << (digit + 2)) <= m) ++digit;
     const int sh = std::max(0, top + 1 - digit);
@@ -76,10 +70,8 @@ float selectRank(float* v, std::size_t n, std::size_t k)
     k -= below;
     if (counts[bucket] != m && c == v && counts[bucket] <= kLocal)
     {
-      // First narrowing of the caller's array: copy the candidates out to a local buffer
-      // instead of swapping them to the front (a load, a store and no dependence on the
-      // destination's old value per value, where a swap is two of each; ~1/5 of this function
-      // under perf). The caller's values stay where they were, untouched.
+      // First narrowing: copy the candidates out to a local buffer rather than swap them to the
+      // front (a load and a store per value, not two of each); the caller's values stay untouched.
       std::size_t j = 0;
       for (std::size_t i = 0; i < m; ++i)
       {

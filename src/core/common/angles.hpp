@@ -12,9 +12,8 @@ constexpr double kPiD = 3.14159265358979323846;
 constexpr float kPi = static_cast<float>(kPiD);
 constexpr float kTwoPi = static_cast<float>(2 * kPiD);
 
-/// An angle difference in (-3 pi, 3 pi) brought into [-pi, pi). Selections rather than branches,
-/// so loops calling it can be vectorized (with -fno-trapping-math the compiler may form both
-/// sides). Float in the default modes (eight lanes), double in the others.
+/// An angle difference in (-3 pi, 3 pi) brought into [-pi, pi), by selections so that calling loops
+/// vectorize (-fno-trapping-math lets both sides be formed). Float or double.
 template <class T>
 inline T wrapPi(T a)
 {

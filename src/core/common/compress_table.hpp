@@ -1,9 +1,6 @@
-// For each 8-bit mask, the lanes of its set bits in order: the lane order that moves the marked
-// lanes of an eight-lane vector to its front (left-packing), or the offsets of the marked
-// elements of a group of eight. Shared by the thresholds' candidate compaction, the grid's
-// Duplicate list, the measured resolution's bracket pass and the primitives' run cut; the same for
-// four 64-bit elements (the organized grid's gather, the dual-return fold); and for each 8-bit
-// mask its prefix counts (the run cut's run ids).
+// Lane tables: for each 8-bit mask the lanes of its set bits in order (moving the marked lanes of an
+// eight-lane vector to its front: left-packing, as the thresholds' candidate compaction does), the
+// same for four 64-bit elements, and each 8-bit mask's prefix counts.
 #pragma once
 
 #include <cstdint>
@@ -46,22 +43,5 @@ constexpr PairTable makePairTable()
 }
 inline constexpr PairTable kPairs = makePairTable();
 
-/// For each 8-bit mask, lane l: how many of lanes 0 to l are set (an inclusive prefix count).
-struct PrefixTable
-{
-  std::int32_t lane[256][8];
-};
-constexpr PrefixTable makePrefixTable()
-{
-  PrefixTable t{};
-  for (int mask = 0; mask < 256; ++mask)
-    for (int l = 0, c = 0; l < 8; ++l)
-    {
-      c += (mask >> l) & 1;
-      t.lane[mask][l] = c;
-    }
-  return t;
-}
-inline constexpr PrefixTable kPrefix = makePrefixTable();
 
 }  // namespace ring_curvature

@@ -39,17 +39,12 @@ inline float selectBits(std::uint32_t mask, float a, float b)
 }
 }  // namespace detail
 
-/// Fast atan2 (max error ~1e-5 rad) used for azimuths; exposed for tests. Inline: it runs once
-/// per point in the grid and once per turning angle in the features.
-///
-/// Written without branches so that loops over arrays of it are vectorized (four at a time):
-/// with float comparisons and `?:` the compiler kept branches (a comparison may trap under the
-/// default -ftrapping-math, and it skipped the division on the zero path), so the comparisons
-/// are made on the bit patterns and the selections by masks. Each one reproduces the float
-/// comparison exactly, NaN included (for |v|: v < w iff bits(v) < bits(w) and w is not NaN;
-/// v < 0 iff 0x80000000 < bits(v) <= 0xff800000), so the result is bit for bit that of the
-/// former branching version for every input (checked over all special values and 3e7 random
-/// pairs): max(|x|, |y|) and min as std::max / std::min, a zero or NaN max gives +0.
+/// Fast atan2 (max error ~1e-5 rad) for azimuths and turning angles; exposed for tests. Branch-free
+/// so that loops over it vectorize: comparisons on the bit patterns (a float comparison may trap
+/// under -ftrapping-math, so the compiler kept branches), selections by masks. Each reproduces the
+/// float comparison exactly, NaN included (for |v|: v < w iff bits(v) < bits(w) and w is not NaN;
+/// v < 0 iff 0x80000000 < bits(v) <= 0xff800000): max / min as std::max / std::min, and a zero or
+/// NaN max gives +0.
 inline float fastAtan2(float y, float x)
 {
   using detail::floatBits;

@@ -7,9 +7,8 @@
 namespace ring_curvature
 {
 
-/// i wrapped into [0, K) (K > 0). Offsets are a few samples: one add or subtract wraps them,
-/// where `%` costs a 64-bit division per access; the division stays as the fallback for rings
-/// shorter than the offset.
+/// i wrapped into [0, K) (K > 0). Offsets are a few samples, so one add or subtract wraps them
+/// instead of a 64-bit `%` per access; `%` remains for rings shorter than the offset.
 inline std::int64_t wrapRingIndex(std::int64_t i, std::int64_t K)
 {
   if (i < 0) i += K;

@@ -108,7 +108,6 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
   else
     developedCurvature(g, P, n, out);
   discontinuity(g, P, n, out);
-  // Smoothness over a window of +-w samples (smoothness.cpp).
   const int* const L = runs_.data();
   growTo(prefix_, smoothnessScratch(static_cast<int>(R.K), P.smoothness_window, R.closed));
   ringSmoothness(static_cast<int>(R.K), P.smoothness_window, R.closed, P.smoothness_mode == SmoothnessMode::Detrended,
@@ -116,14 +115,9 @@ void FeatureComputer::computeRing(const ScanGrid& g, const Params& P, int n, Fea
                  out.smoothness.data() + R.b);
 }
 
-// The ring as segments between gaps: seg[i] is the first sample of segment i (a sample k with
-// linked[k] = 0, or a virtual start before the seam), seg[i + 1] its end (exclusive). In
-// segment [p, q): L[k] = min(k - p, cap) and R[k] = min(q - 1 - k, cap). A closed ring's runs
-// continue across the seam: its first segment starts `run` links before the ring's first
-// sample, and its last ends `run` links after its last one, found by a walk of at most `cap`
-// links each. (An open ring has linked[first] = 0, so its runs start at 0, and it ends at K.)
-// Gaps are found by memchr (zero bytes, many at a time), and each segment's runs are written by
-// a loop that vectorizes; the smoothness visits only the samples near a gap from the same list.
+// seg[i] is segment i's first sample (linked[k] = 0, or a virtual start before the seam), seg[i + 1]
+// its end; in [p, q), L[k] = min(k - p, cap), R[k] = min(q - 1 - k, cap). A closed ring's runs go
+// on across the seam (a walk of at most `cap` links each way). The smoothness reuses the list.
 int FeatureComputer::ringRuns(const ScanGrid& g, int n, int cap)
 {
   const RingSpan S(g, n);
@@ -150,11 +144,8 @@ int FeatureComputer::ringRuns(const ScanGrid& g, int n, int cap)
   return num_seg;
 }
 
-// The ring's azimuths, and its ranges in float, with `cap` samples of padding on each side: the
-// neighbours of a closed ring across the seam, copies of the end samples for an open one (never
-// used: the run lengths keep every reach inside the ring). Neighbour k + j is then azp[k + j],
-// with no wrap-around arithmetic per access. The default modes' features (Chord, Jump, Detrended
-// with small windows) run in float on these; the other modes read the double ranges in place.
+// The ring's azimuths and float ranges padded by `cap` samples each side (a closed ring's neighbours
+// across the seam; unused copies for an open one), so neighbour k + j is azp[k + j], no wrap.
 void FeatureComputer::padRing(const ScanGrid& g, int n, int cap)
 {
   const RingSpan S(g, n);
@@ -180,10 +171,8 @@ void FeatureComputer::padRing(const ScanGrid& g, int n, int cap)
   }
 }
 
-// Chord mode, in float: the chord's sample count, the developed chords (ring_kernels.cpp), then
-// the turning angle and arc length straight into kappa, in loops of independent iterations that
-// vectorize (fastAtan2 is branch-free, and std::sqrt has no errno branch: -fno-math-errno). If an
-// angle exceeded the polynomial's range, the ring's chords are formed again with libm (odd data).
+// Chord mode, in float, in loops that vectorize (fastAtan2 is branch-free; -fno-math-errno). If an
+// angle exceeded the polynomial's range, the ring's chords are formed again with libm.
 RC_SIMD_CLONES void FeatureComputer::chordCurvature(const ScanGrid& g, const Params& P, int n, Features& out)
 {
   const RingSpan S(g, n);
@@ -266,11 +255,9 @@ void FeatureComputer::discontinuity(const ScanGrid& g, const Params& P, int n, F
   const int* const Rr = L + K;
   if (P.discontinuity_mode == DiscontinuityMode::Jump)
   {
-    // Link (k-1, k): how badly each side's linear extrapolation predicts the other side's range,
-    // the smaller of the two, relative to range. A grazing plane is predicted well from both
-    // sides; a depth jump from neither. A point takes the larger of its two links. Each link
-    // once: jump[k] is link (k-1, k), NaN where there is none, and jump[K] repeats jump[0] (the
-    // seam's link of a closed ring), so that largerLink reads both links without a wrap.
+    // Link (k-1, k): the smaller relative misprediction of each side's linear extrapolation (a
+    // grazing plane is predicted well from both sides, a depth jump from neither); a point takes
+    // its larger link. jump[K] repeats jump[0] (a closed ring's seam) so largerLink needs no wrap.
     growTo(jump_, K + 1);
     linkJumps(static_cast<int>(K), L, Rr, rho_pad_f_.data() + cap_, jump_.data());
     jump_[K] = jump_[0];

@@ -35,19 +35,10 @@ inline int chordSample(float c, float az_k, float rho_k, float az_p, float rho_p
   u2 = ux * ux + uy * uy;
   return large;
 }
-// Chord mode's developed chords from vertex k to k - min(H, L) and k + min(H, R), on the padded
-// ring arrays (`az`, `rho` indexed from -pad): their cross and dot products and squared
-// lengths. Where a side has no neighbour the reach is 0 and the chord degenerates to the vertex
-// itself (harmless values the caller never stores). The sine and cosine come from the
-// polynomial alone; returns true when an angle exceeded its range (odd data), and the caller
-// then recomputes the ring with the libm branch. A function of its own for `__restrict` (which
-// GCC honours on parameters): a gathered load might otherwise alias a store, and the loop stayed
-// scalar; with it the loop is vectorized.
-// In float, eight samples a vector (double took four, and twice the bytes per gathered range).
-// Float keeps the turning angle to ~1e-6 rad: the incoming chord's x component, rho_k -
-// rho_kp cos(a), loses ~1 ulp of the range (1e-6 m at 10 m) against a chord of >= 0.25 m, and
-// the angle already goes through fastAtan2 in float (~1e-5 rad); the products cross / dot of
-// chords of ~0.25 m keep float's relative precision (no sums of large terms here).
+// chordProducts' loop (a side without neighbour degenerates harmlessly to the vertex). A function of
+// its own for `__restrict`, which GCC honours on parameters, so that the gathers vectorize. Float
+// keeps the turning angle to ~1e-6 rad: rho_k - rho_kp cos(a) loses ~1 ulp of the range against
+// chords >= 0.25 m, and fastAtan2 is float anyway.
 template <class SinCos>
 inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
                         const float* __restrict rho, float* __restrict cross, float* __restrict dot,
@@ -77,11 +68,9 @@ void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R,
   chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, smallSinCos<float>);
 }
 
-// Chord mode: samples per half chord, for a chord of `chord` metres at each range (sample
-// spacing ~ rho cos(phi) dtheta), between 1 and max_h. The ceil is by
-// truncation (exact: the quotient lies in (0, 2.5e5]), which vectorizes, where SSE2 has no
-// rounding instruction and std::ceil stayed a call per sample. In float with the chords (the
-// quotient is below 2^24, so the truncation stays exact).
+// Chord mode: samples per half chord for a chord of `chord` metres (spacing ~ rho cos(phi)
+// dtheta), in [1, max_h]. The ceil by truncation is exact (quotient in (0, 2.5e5], below 2^24)
+// and vectorizes, where SSE2 has no rounding instruction and std::ceil stays a call.
 RC_SIMD_CLONES void chordSamples(int K, const float* __restrict rho, float cos_phi, float dtheta, float chord,
                                       int max_h, int* __restrict H)
 {
@@ -94,12 +83,9 @@ RC_SIMD_CLONES void chordSamples(int K, const float* __restrict rho, float cos_p
   }
 }
 
-// Jump mode: link (k-1, k) of each sample k, on the padded ranges `rp`: how badly each side's
-// linear extrapolation predicts the other side's range, the smaller of the two, relative to
-// range; NaN where k has no link back (L[k] = 0). Branch-free: both predictions are formed and
-// the run lengths choose, and every link's quotient is formed, then kept or not, so that the
-// loop vectorizes. In float: a prediction error of ~1 ulp of the range (1e-6 m at 10 m) is 1e-7
-// of the range, far below the smallest jump called one (jump_min_ratio, 0.03).
+// Jump mode: link (k-1, k) of each sample k on the padded ranges `rp`, the smaller relative
+// misprediction of the two sides' linear extrapolations; NaN where L[k] = 0. Branch-free so it
+// vectorizes. Float suffices: ~1 ulp (1e-7 of the range) is far below jump_min_ratio (0.03).
 RC_SIMD_CLONES void linkJumps(int K, const int* __restrict L, const int* __restrict R, const float* __restrict rp,
                                    float* __restrict jump)
 {

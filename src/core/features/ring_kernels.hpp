@@ -1,6 +1,5 @@
-// The features' loops over one ring (FeatureComputer::computeRing): the chord mode's
-// developed chords and sample counts, and the jump mode's link discontinuities. Each is a loop of
-// independent iterations over arrays, compiled as target clones so that it vectorizes.
+// The features' loops over one ring: the chord mode's developed chords and sample counts, and the
+// jump mode's link discontinuities, each independent iterations compiled as target clones.
 #pragma once
 
 #include <cmath>
@@ -17,8 +16,7 @@ constexpr double kSmallAngle = 0.2;
 template <class T>
 inline void polySinCos(T a, T& s, T& c)
 {
-  // Reciprocal constants: without -ffast-math a "/ 6.0" stays a division, and these six were
-  // the largest cost of the feature stage (perf); the result differs by an ulp at most.
+  // Reciprocal constants: without -ffast-math "/ 6.0" stays a division; differs by an ulp at most.
   const T a2 = a * a;
   s = a * (T(1) - a2 * T(1.0 / 6.0) * (T(1) - a2 * T(1.0 / 20.0) * (T(1) - a2 * T(1.0 / 42.0))));
   c = T(1) - a2 * T(0.5) * (T(1) - a2 * T(1.0 / 12.0) * (T(1) - a2 * T(1.0 / 30.0)));
@@ -35,9 +33,8 @@ inline void smallSinCos(T a, T& s, T& c)
   polySinCos(a, s, c);
 }
 
-// Turning angle and curvature of a sample, NaN where undefined. Straight-line (the quotient
-// is formed everywhere and then chosen; callers pass `&` rather than `&&`): loops vectorize.
-// T is float in chord mode, double in the others.
+// Turning angle and curvature of a sample, NaN where undefined; straight-line (callers pass `&`,
+// not `&&`) so that loops vectorize. T is float in chord mode, double in the others.
 template <class T>
 inline void storeCurvature(T turn, T len, bool defined, float& turning, float& curvature)
 {
@@ -46,9 +43,8 @@ inline void storeCurvature(T turn, T len, bool defined, float& turning, float& c
   curvature = (defined & (len > 0)) ? kappa : std::numeric_limits<float>::quiet_NaN();
 }
 
-/// Chord mode's developed chords of samples [0, K) from vertex k to k - min(H, L) and
-/// k + min(H, R), on the padded ring arrays az, rho: cross and dot products and squared lengths,
-/// with the polynomial sine and cosine. True when an angle exceeded the polynomial's range.
+/// Chord mode's developed chords of samples [0, K), vertex k to k - min(H, L) and k + min(H, R), on
+/// the padded az, rho: cross, dot, squared lengths. True if an angle exceeded the polynomial's range.
 bool chordProducts(int K, float c, const int* H, const int* L, const int* R, const float* az, const float* rho,
                    float* cross, float* dot, float* v2, float* u2);
 /// The same with the libm sine and cosine where an angle is large (after chordProducts said so).

@@ -23,11 +23,8 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 // The largest smoothness_window that Params::validate lets through.
 constexpr int kMaxWindow = 256;
 
-// Smoothness of samples whose whole window lies in their run (w links free on each side): the
-// centred window of 2w + 1 samples and, detrended, the two one-sided ones of w + 1, from the
-// prefix sums S0 (rho), S1 (j rho), S2 (rho^2) over extended indices [0, E]. Samples near a gap
-// get values here too (their indices clamped into range), which the caller overwrites.
-// jbar is the window's mean index, 0.5 * (lo + hi - 1).
+// The (detrended) variance of extended indices [lo, hi) from the prefix sums S0 (rho), S1 (j rho),
+// S2 (rho^2); jbar is the window's mean index, 0.5 * (lo + hi - 1).
 inline double windowVariance(const double* S0, const double* S1, const double* S2, bool detrend, int lo, int hi,
                              double jbar, double inv_cnt, double inv_trend)
 {
@@ -39,10 +36,9 @@ inline double windowVariance(const double* S0, const double* S1, const double* S
   return std::max(0.0, v);
 }
 
-// One sample of fullWindowSmoothness. The window bounds are clamped into [0, E] only for an
-// open ring's first and last w samples; the caller's middle loop passes the same bounds
-// unclamped (clamping changes nothing there), so that the compiler sees contiguous loads there
-// rather than per-element inserts (it vectorized the clamped indices as emulated gathers).
+// One sample's full windows (centred; detrended, also the two one-sided). Bounds are clamped into
+// [0, E] only for an open ring's first and last w samples (near a gap the caller overwrites); the
+// middle loop passes them unclamped so that the compiler sees contiguous loads, not gathers.
 template <bool kClamp>
 inline float fullWindowSample(int k, int w, int ext, bool detrend, bool sided, int E, const double* __restrict S0,
                               const double* __restrict S1, const double* __restrict S2, double ic, double it,
@@ -83,12 +79,9 @@ RC_SIMD_CLONES void fullWindowSmoothnessSided(int K, int w, int ext, int E, cons
   int k0, k1;
   unclampedRange(K, w, ext, k0, k1);
   for (int k = 0; k < k0; ++k) out[k] = fullWindowSample<true>(k, w, ext, true, true, E, S0, S1, S2, ic, it, ics, its);
-  // Unclamped, the left window of sample k, [c0 - w, c0 + 1), is the right window of sample k - w,
-  // with the same mean index (c0 - w / 2 either way, exact): the same operations on the same
-  // values. So each one-sided window is formed once, for a block of samples at a time (in
-  // `sided`, on the stack), where fullWindowSample formed every one twice.
-  // (A window wider than Params::validate allows, from unvalidated parameters, takes the
-  // per-sample loop.)
+  // Unclamped, sample k's left window is sample k - w's right one with the same mean index (exact):
+  // the same operations on the same values, so each one-sided window is formed once, a block at a
+  // time. (Windows wider than Params::validate allows take the per-sample loop.)
   constexpr int kBlock = 256;
   double sided[kBlock + kMaxWindow];
   const double hw = 0.5 * static_cast<double>(w);
@@ -131,15 +124,13 @@ RC_SIMD_CLONES void fullWindowSmoothnessCentred(int K, int w, int ext, bool detr
   for (int k = k1; k < K; ++k) out[k] = fullWindowSample<true>(k, w, ext, detrend, false, E, S0, S1, S2, ic, it, 0, 0);
 }
 
-// The samples near a gap (L[k] < w or R[k] < w; w < cap), with their shorter windows: in each
-// segment [p, q) the first w samples and the last w. windowVar(lo, hi) is the detrended (or
-// plain) variance of extended indices [lo, hi).
+// The samples near a gap (the first and last w of each segment; w < cap) with shorter windows;
+// windowVar(lo, hi) is the (detrended) variance of extended indices [lo, hi).
 template <class WindowVar>
 [[gnu::always_inline]] inline void nearGapSmoothness(int K, int w, int ext, const int* seg, int num_seg, const int* L,
                                                      const int* R, float* out, const WindowVar& windowVar, bool detrend)
 {
-  // Inlined by force: out of line it would be a baseline function called from ringSmoothness's
-  // AVX2 clone, a call per sample.
+  // Inlined by force: out of line it would be a baseline call per sample from the AVX2 clone.
   const auto nearGap = [&](std::uint32_t k) __attribute__((always_inline)) {
     const int a = std::min(w, L[k]), z = std::min(w, R[k]);  // reach of the window, left / right
     const std::size_t c0 = k + static_cast<std::size_t>(ext);
@@ -153,9 +144,8 @@ template <class WindowVar>
     double var = windowVar(lo, hi);
     if (detrend)
     {
-      // Edge-preserving: a sample beside a crease has one side that lies on a single face; the
-      // best of the centred and the two one-sided windows is low there, and high only where
-      // every window is rough (vegetation, clutter).
+      // Edge-preserving: beside a crease one side lies on a single face, so the best of the three
+      // windows is high only where every window is rough (vegetation, clutter).
       if (c0 + 1 - lo >= 3) var = std::min(var, windowVar(lo, c0 + 1));
       if (hi - c0 >= 3) var = std::min(var, windowVar(c0, hi));
     }
@@ -185,13 +175,12 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
                                    const int* L, const int* R, const int* seg, int num_seg, double* prefix, float* out)
 {
   const int ext = closed ? w : 0;
-  // Windows hold at most 2w + 1 samples: 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) per window
-  // size come from a small table, so the three windows of a point cost no division (divisions
-  // dominated this loop). Larger windows than the table holds compute them directly.
+  // 1 / cnt and 1 / (sum (j - jbar)^2 * cnt) per window size (at most 2w + 1) from a small table:
+  // no division per window. Windows larger than the table compute them directly.
   constexpr std::size_t kTable = 64;
   double inv_cnt_table[kTable], inv_trend_table[kTable];
   inv_cnt_table[0] = inv_trend_table[0] = 0.0;  // never used: windows hold >= 2 samples
-  // Only the sizes a window can have (at most 2w + 1): these divisions ran for every ring.
+  // Only the sizes a window can have (at most 2w + 1).
   const std::size_t table_end = std::min(kTable, static_cast<std::size_t>(std::max(w, 0)) * 2 + 2);
   for (std::size_t t = 1; t < table_end; ++t)
   {
@@ -201,12 +190,10 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
   }
   if (detrend && w >= 2 && w <= kMaxDirect)
   {
-    // The default mode's small windows, each from its own samples (smoothness_direct.cpp).
     directRingSmoothness(K, w, rho, rpf, L, R, seg, num_seg, inv_cnt_table, inv_trend_table, out);
     return;
   }
-  // Prefix sums over the ring, extended by w on each side for closed rings so that windows wrap
-  // across the seam.
+  // Prefix sums, extended by w each side for closed rings so that windows wrap across the seam.
   const std::size_t E = static_cast<std::size_t>(K) + 2 * static_cast<std::size_t>(ext);
   // every entry of `prefix` but the three leading zeros is written below
   double* S0 = prefix;                  // sum rho
@@ -214,10 +201,8 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
   double* S2 = S1 + (E + 1);            // sum rho^2
   S0[0] = S1[0] = S2[0] = 0.0;
   {
-    // Running sums in registers (the same additions in the same order): read back from the
-    // arrays, which may alias rho as far as the compiler knows, each step waited on the store
-    // of the one before.
-    // The index as a double counter (exact: E < 2^53), not converted from size_t per step.
+    // Running sums in registers (same additions, same order): through the arrays, which may alias
+    // rho, each step would wait on the store before. The index as a double counter (exact: E < 2^53).
     double s0 = 0.0, s1 = 0.0, s2 = 0.0, ed = 0.0;
     // An open ring's ranges are summed in place; a closed ring's with w neighbours across the
     // seam on each side, copied after the sums' arrays.
@@ -233,9 +218,8 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
       rs = pad;
     }
     std::size_t e = 0;
-    // Two samples a step, each array's two sums stored by one 16-byte store: three stores a
-    // sample, each to its own cache line, bounded the loop, not the additions. The second
-    // sample's sums are the first's plus its terms, as in the loop below.
+    // Two samples a step, each array's pair in one 16-byte store (the stores bound the loop); the
+    // second sample's sums are the first's plus its terms, as in the loop below.
     using Pair = double __attribute__((vector_size(16)));
     for (; e + 2 <= E; e += 2, ed += 2.0)
     {
@@ -280,10 +264,8 @@ RC_SIMD_CLONES void ringSmoothness(int K, int w, bool closed, bool detrend, cons
     }
     return std::max(0.0, var);
   };
-  // Most samples lie w or more links from a gap on both sides: their windows have fixed sizes
-  // and offsets, computed for every sample by a straight loop that vectorizes. The loop below
-  // then redoes the rest, the samples near a gap, with their shorter windows. Same operations
-  // on the same values either way (the tables hold exactly 1.0 / cnt and the trend factor).
+  // Full windows for every sample in a straight loop that vectorizes, then those near a gap redone
+  // with shorter windows. Same operations on the same values (the tables hold exactly the factors).
   fullWindowSmoothness(K, w, ext, detrend, static_cast<int>(E), S0, S1, S2, out);
   nearGapSmoothness(K, w, ext, seg, num_seg, L, R, out, windowVar, detrend);
 }

@@ -13,12 +13,9 @@ inline std::size_t smoothnessScratch(int K, int w, bool closed)
   return 3 * (E + 1) + (closed ? E : 0);  // the sums, and a closed ring's ranges across its seam
 }
 
-/// Smoothness of the K samples of one ring (window of +-w samples, w >= 1) into out[0, K): `rho`
-/// holds the ring's K ranges (windows of a closed ring wrap across its seam), `rpf` the same in
-/// float padded with w samples on each side (the neighbours across the seam of a closed ring;
-/// Detrended with w <= 4 forms its full windows from them), L and R the links free to the left and right of each sample (capped above w),
-/// seg[0, num_seg) the segments between gaps (see computeRing), and `prefix` room for
-/// smoothnessScratch(K, w, closed) values.
+/// Smoothness of one ring's K samples (window +-w, w >= 1) into out[0, K) from its ranges `rho`, and
+/// `rpf` in float padded by w each side; L and R the free links each side (capped above w), seg the
+/// segments between gaps, `prefix` room for smoothnessScratch(K, w, closed) values.
 void ringSmoothness(int K, int w, bool closed, bool detrend, const double* rho, const float* rpf, const int* L,
                     const int* R, const int* seg, int num_seg, double* prefix, float* out);
 

@@ -17,14 +17,9 @@ namespace
 {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// Detrended smoothness of every sample from its own window in float, for the small windows
-// (w <= kMaxDirect): no prefix sums. The sums are of the ranges relative to the window's centre
-// sample, d_j = rho_{k+j} - rho_k, not of the ranges themselves: the variance's cancellation
-// (mean square less squared mean, less the trend) then works on values of the size of the range
-// differences within the window, not of the range (squared ranges summed over a ring lose
-// everything in float). Float's error is then ~1e-7 of the window's spread of ranges, about what
-// the float32 input's coordinates carry anyway. A window costs O(w) a sample, which for w <= 4
-// is less than the prefix sums' serial chain and two double windows, and it vectorizes.
+// Detrended smoothness of every sample from its own window in float (w <= kMaxDirect): sums of
+// d_j = rho_{k+j} - rho_k, not of ranges, so the variance's cancellation works at the size of the
+// window's range differences (error ~1e-7 of that spread, as float32 input carries anyway).
 
 template <int W>
 [[gnu::always_inline]] inline void directWindows(int K, const float* __restrict rp, float* __restrict out)
@@ -65,9 +60,8 @@ RC_SIMD_CLONES void directSmoothness(int K, int w, const float* __restrict rp, f
   }
 }
 
-// Sums over a window of n ranges at(0) .. at(n - 1), relative to its first: of the differences,
-// of their products with the centred index, and of their squares (the near-gap windows in double).
-// One sample's terms: difference d of index j in a window centred at jbar.
+// Sums over a window at(0) .. at(n - 1) relative to its first: of d, (j - jbar) d and d^2 (the
+// near-gap windows, in double); addWindowSample adds one sample's terms.
 [[gnu::always_inline]] inline void addWindowSample(double d, std::size_t j, double jbar, double& s0, double& s1,
                                                    double& s2)
 {
@@ -89,10 +83,8 @@ template <class At>
   windowSums(n, s0, s1, s2, [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
 }
 
-// Window sums of nearGapDirect: the n_all samples at(0) .. at(n_all - 1) relative to the
-// first, and of the first n_left of them (same first sample) the sum of (j - jbar) d: the left
-// window's sums of d and d^2 are the whole window's after n_left steps (the same additions in
-// the same order), taken there rather than summed again.
+// nearGapDirect's sums, and of the first n_left samples the sum of (j - jbar_l) d: the left window's
+// sums of d and d^2 are the whole's after n_left steps (the same additions in the same order).
 template <class At>
 [[gnu::always_inline]] inline void sharedWindowSums(std::size_t n_all, std::size_t n_left, double* all, double* left,
                                                     At at)
@@ -116,13 +108,9 @@ template <class At>
   all[2] = s2;
 }
 
-// nearGapSmoothness for the direct windows (detrended, w <= kMaxDirect), in double, each window
-// relative to its first sample, with the centred and the left window summed in one pass
-// (sharedWindowSums), and a one-sided window that is the centred one (a sample at a gap: no
-// link on that side) not formed again (the same bits: min(v, v) is v). Extended index j is ring sample
-// j - ext: a window's ranges in place, or, where it reaches across the seam of a closed ring
-// (rare), wrapped one by one (the right window lies inside the centred one).
-// (Windows of at most 2 kMaxDirect + 1 samples: the tables hold their factors.)
+// nearGapSmoothness for the direct windows, in double, relative to each window's first sample:
+// centred and left windows in one pass; a one-sided window equal to the centred one is not formed
+// again (min(v, v) is v); windows across a closed ring's seam wrap sample by sample.
 inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* L, const int* R, const double* rho,
                           const double* ic, const double* it, float* out)
 {

@@ -1,6 +1,5 @@
 // Window statistics shared by the smoothness's two forms: prefix sums over the ring
-// (smoothness.cpp) and the default mode's small windows from their own samples
-// (smoothness_direct.cpp).
+// (smoothness.cpp) and the default mode's small windows from their own samples (smoothness_direct).
 #pragma once
 
 #include "common/ring_index.hpp"
@@ -13,9 +12,8 @@ namespace ring_curvature
 namespace detail
 {
 
-// Range of ring sample i, i in [-K - 1, 2K] (a window's reach across the seam of a closed ring; an
-// open ring's windows stay inside it): the same positions as the features' neighbours across the
-// seam.
+// Range of ring sample i, i in [-K - 1, 2K] (a closed ring's windows across the seam; an open
+// ring's stay inside): the same positions as the features' neighbours across the seam.
 inline double wrappedRange(const double* rho, int K, std::ptrdiff_t i)
 {
   return rho[wrapRingIndex(i, K)];

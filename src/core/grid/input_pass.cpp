@@ -20,11 +20,8 @@ namespace ring_curvature
 namespace
 {
 
-// The input pass's entries for point i: its range decides validity (NaN and inf fail both
-// comparisons); the entries of invalid points are written too (x / y / z then hold values
-// nothing reads). Shared by the vectorized reader below and the generic loop of readPoints.
-// x, y, z as float32 feed the azimuths and, for float32 clouds, the grid's coordinates (see
-// ScanGridBuilder::build).
+// Point i's entries: its range decides validity (NaN and inf fail both comparisons); invalid
+// points' are written too. Float32 x, y, z feed the azimuths and, for float32 clouds, the grid.
 struct PointEntries
 {
   double* range;
@@ -49,12 +46,9 @@ inline void storePoint(const PointEntries& out, std::size_t i, double x, double 
   out.grid_pos[i] = -1;
 }
 
-// The common layouts: float32 x, y, z at fixed offsets of `step`-byte records, and either a
-// uint16 ring field (velodyne, unorganized ouster; `has_ring`) or one ring for all (a row of an
-// organized cloud; `fixed_ring`). One loop without branches, early exits or per-point dispatch
-// on types, which the compiler vectorizes with gathers on AVX2 (RC_SIMD_CLONES). Returns the
-// largest ring field read, so the caller can reject the frame after the loop. (Without a ring
-// field, `oring` only has to lie inside the record: the value read there is not used.)
+// The common layouts: float32 x, y, z at fixed offsets and a uint16 ring field (`has_ring`) or one
+// ring for all (`fixed_ring`; `oring` need only lie in the record). No branches or early exits, so
+// it vectorizes: returns the largest ring read, for the caller to reject the frame after the loop.
 RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
                                             std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
                                             bool has_ring, std::int32_t fixed_ring, double rmin, double rmax,
@@ -180,8 +174,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   return Status::success();
 }
 
-// Organized float32 clouds (ouster), row by row: the row is the ring; a ring field is only
-// checked.
+// Organized float32 clouds (ouster), row by row: the row is the ring; a ring field is only checked.
 Status ScanGridBuilder::readOrganizedRows(const PointCloudView& view, const Params& params, ScanGrid& grid)
 {
   const double rmin = params.min_range, rmax = params.max_range;
@@ -235,10 +228,8 @@ void ScanGridBuilder::countRings(std::size_t n, const Params& params)
       ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
       ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
     };
-    // Sixteen points of one ring (most blocks where rings come one after another) count in one
-    // addition instead of sixteen increments (the comparison vectorizes).
-    // Only where the first points come in runs: interleaved rings (velodyne firing order) would
-    // pay for the comparison in every block.
+    // Sixteen points of one ring count in one addition, but only where the first points come in
+    // runs: interleaved rings (velodyne firing order) would pay for the comparison in every block.
     std::size_t changes = 0;
     const std::size_t probe = std::min<std::size_t>(n, 256);
     for (std::size_t j = 1; j < probe; ++j) changes += ring[j] != ring[j - 1] ? 1 : 0;

@@ -8,7 +8,6 @@ namespace ring_curvature
 
 void ScanGridBuilder::placeOrganized(const PointCloudView& view, ScanGrid& grid)
 {
-  // Row = ring, column order = azimuth order: the sensor already gives the grid.
   const std::size_t R = view.height, W = view.width;
   grid.ring_begin.assign(R + 1, 0);
   // Branch-free compaction into presized arrays (NaN-padded sensors make validity a coin toss

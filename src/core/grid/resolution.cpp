@@ -73,13 +73,9 @@ RC_SIMD_CLONES BracketCounts bracketPass(const float* d, std::size_t total, std:
   return {n, below, m};
 }
 
-// The keys of ranks k1 <= k2 among keys[0, m), all of them in [base, base + span]: a histogram
-// of the leading bits of key - base, then the same among the keys of the bucket that holds the
-// rank, until one key is left. Both ranks go together while they fall in one bucket (the first
-// digits of a sample); where they part, the second one's bucket is copied to `spare` (room for
-// m) and goes on alone. keys is overwritten. Unlike selectRank, the range is known (no pass for
-// it), and a bracket of a few thousand float steps takes one pass with the answer read off its
-// histogram.
+// The keys of ranks k1 <= k2 among keys[0, m) in a known [base, base + span]: histograms of the
+// leading bits of key - base, narrowing to the rank's bucket; where the ranks part, the second one's
+// bucket goes on alone in `spare` (room for m). keys is overwritten.
 void rankKeys(std::uint32_t* keys, std::uint32_t* spare, std::size_t m, std::size_t k1, std::size_t k2,
               std::uint32_t base, std::uint32_t span, std::uint32_t& r1, std::uint32_t& r2)
 {
@@ -154,9 +150,8 @@ void ScanGridBuilder::measureResolution(const Params& params, ScanGrid& grid)
     grid.azimuth_resolution = params.azimuth_resolution_deg * kDeg;
     return;
   }
-  // Median spacing of neighbouring samples on the same ring (the kept ones, see kept()): the
-  // element of rank n / 2 of the n kept, as nth_element would give. For organized clouds the
-  // spacing per column. First every ring's spacings, in loops that vectorize.
+  // Median kept spacing of ring neighbours (per column when organized): rank n / 2 of the n kept,
+  // as nth_element gives. First every ring's spacings, in loops that vectorize.
   tmp_f_.resize(sorted_az_.size() + 1);
   float* const d = tmp_f_.data();
   const float* const az = sorted_az_.data();
@@ -196,13 +191,9 @@ float SpacingMedian::operator()(float* d, std::size_t total, float none)
 
 bool SpacingMedian::fromBracket(const float* d, std::size_t total, float& median)
 {
-  // Most spacings are about the same value, and a selection over all of them would move nearly
-  // all at every digit. So a bracket [lo, hi] around the median from an even sample of the kept
-  // spacings, then one pass over all spacings that counts the kept ones, those below lo, and
-  // copies out those inside; the selection runs on those few. The result is the element of rank
-  // n / 2 all the same; if the bracket misses that rank (it holds it with overwhelming odds),
-  // this returns false and the caller selects among all. Kept spacings are positive, so their
-  // bits order like them: the selections and the pass work on the bits.
+  // Most spacings are about equal, so a selection over all would move nearly all at every digit:
+  // a bracket from an even sample, one pass counting and copying out those inside, selection among
+  // those (rank n / 2 exactly, or false if missed). Positive floats' bits order like them.
   constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
   if (total < 8 * kSample) return false;
   const std::int32_t above = keptAbove(), under = keptUnder();

@@ -26,10 +26,8 @@ std::uint32_t ScanGridBuilder::foldRing(std::uint64_t* keys, std::uint32_t k, st
   static_assert(sizeof(Follower) == sizeof(std::uint64_t) && offsetof(Follower, point) == 0 &&
                     offsetof(Follower, of) == sizeof(std::uint32_t),
                 "a Follower is written as one 64-bit word: point low, twin high");
-  // Key j is a follower when its azimuth key and range bits equal those of key j - 1 or j - 2 as
-  // they came (p1, p2: the ring's raw keys before j, the sentinels at first). Kept keys are
-  // packed from the front (w <= j, so the keys still to read are intact). Branch-free: in a
-  // dual-return frame whether a key folds is a coin toss.
+  // Key j follows when its azimuth key and range bits equal those of raw key j - 1 or j - 2 (p1, p2;
+  // sentinels at first). Kept keys pack from the front (w <= j). Branch-free: folding is a coin toss.
   std::uint64_t p1 = sentinel, p2 = sentinel;
   std::uint64_t r1 = rangeBits(range, p1), r2 = rangeBits(range, p2);
   std::uint32_t w = 0;

@@ -49,10 +49,8 @@ void ScanGridBuilder::sortRing(const std::uint64_t* src, std::uint64_t* dst, std
 std::uint32_t ScanGridBuilder::arrivalWraps(const std::uint64_t* src, std::uint32_t k, std::uint32_t& wrap_fwd,
                                             std::uint32_t& wrap_bwd)
 {
-  // How the ring arrived, in firing order: how often it steps down in azimuth, and where its
-  // largest drop and rise are (the first of equals; only steps beyond -pi / pi count). The
-  // steps and the count in a loop that vectorizes; the few steps beyond +-pi (the seam, once
-  // or twice a ring) are then found eight flags at a time, and compared in order.
+  // The steps vectorize; the few beyond +-pi (the seam, once or twice a ring) are then found
+  // eight flags at a time and compared in order (the first of equals wins).
   growTo(steps_, k);
   growTo(wide_, k);
   const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
@@ -90,15 +88,11 @@ std::uint32_t ScanGridBuilder::arrivalWraps(const std::uint64_t* src, std::uint3
 bool ScanGridBuilder::sortAsArrived(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k,
                                     std::uint32_t down, std::uint32_t wrap_fwd, std::uint32_t wrap_bwd)
 {
-  // Real drivers deliver a ring in firing order: monotonic in azimuth (decreasing for the
-  // clockwise velodynes), with one wrap across +-pi and local disorder from dual returns and
-  // the firing sequence. Read backwards if mostly decreasing, starting after the wrap, such a
-  // ring is nearly sorted and an insertion sort finishes it in about linear time; a move budget
-  // hands anything else to the bucket sort below, so no frame goes quadratic.
+  // Drivers deliver a ring in firing order: monotonic in azimuth with one wrap across +-pi and
+  // local disorder. Read from the wrap (backwards if mostly decreasing) it is nearly sorted, so
+  // insertion sort is about linear; a move budget hands anything else to bucketSort.
   {
-    // The seam both ways round: a step down by more than pi read forwards is a step up by more
-    // than pi read backwards. (Any choice of seam gives the same final order; it only decides
-    // how much the insertion sort has to move.)
+    // (Any choice of seam gives the same final order; it only decides how much is moved.)
     const std::size_t budget = 8 * static_cast<std::size_t>(k);
     std::size_t moves = 0;
     std::uint32_t j = 0;  // keys placed so far
@@ -112,8 +106,7 @@ bool ScanGridBuilder::sortAsArrived(const std::uint64_t* src, std::uint64_t* dst
       }
       dst[q] = v;
     };
-    // The reading order is the sequence rotated to start after the wrap (and reversed first when
-    // mostly decreasing): read straight from src, instead of reversing and rotating it in place.
+    // Rotated to start after the wrap (reversed first if mostly decreasing), read straight from src.
     const auto forwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[lo], ..., src[hi - 1]
       for (std::uint32_t i = lo; i < hi && moves < budget; ++i) insert(src[i]);
     };

@@ -25,8 +25,7 @@ using detail::sortKey;
 namespace
 {
 
-// How often the ring changes from one point to the next among ring[0, n), in a clone (eight
-// at a time with AVX2). (A 32-bit count: n is below 2^32, point indices are 32-bit throughout.)
+// How often the ring changes between consecutive points (a 32-bit count: indices are 32-bit).
 RC_SIMD_CLONES std::size_t ringChanges(const std::int32_t* __restrict ring, std::size_t n)
 {
   std::uint32_t changes = 0;
@@ -40,8 +39,7 @@ RC_SIMD_CLONES void sortKeys(const float* __restrict az, std::size_t i0, std::si
   for (std::size_t j = 0; j < len; ++j) key[j] = sortKey(az[j], i0 + j);
 }
 
-// The sorted keys split into the input indices and the azimuths (in a clone: the baseline build
-// did it two keys at a time).
+// The sorted keys split into the input indices and the azimuths.
 RC_SIMD_CLONES void splitKeys(std::size_t m, const std::uint64_t* __restrict keys, std::uint32_t* __restrict index,
                               float* __restrict az)
 {
@@ -52,9 +50,8 @@ RC_SIMD_CLONES void splitKeys(std::size_t m, const std::uint64_t* __restrict key
   }
 }
 
-// Folding is only a shortcut (a point left unfolded gets the same verdict from the sort and
-// removeDuplicates), so a frame in which the first kFoldProbe points fold nothing, a
-// single-return frame, skips the test for the rest.
+// Folding is only a shortcut (removeDuplicates gives an unfolded point the same verdict), so a
+// frame whose first kFoldProbe points fold nothing (single return) skips the test for the rest.
 constexpr std::size_t kFoldProbe = 4096;
 }  // namespace
 
@@ -62,27 +59,16 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
 {
   const std::size_t n = grid.num_input;
   const std::size_t R = static_cast<std::size_t>(grid.num_rings);
-  // 1) counting sort by ring (stable: keeps firing order; the counts come from readPoints),
-  //    carrying each point's sort key, so that the sorts below work on the ring's keys rather
-  //    than read each point's azimuth through its input index (a scattered read per comparison).
+  // 1) counting sort by ring (stable: keeps firing order), carrying each point's sort key so the
+  //    ring sorts compare keys instead of reading azimuths through scattered input indices.
   grid.ring_begin.assign(R + 1, 0);
   for (std::size_t r = 0; r < R; ++r) grid.ring_begin[r + 1] = grid.ring_begin[r] + ring_count_[r + 1];
   keys_tmp_.resize(grid.ring_begin[R]);
   bin_start_.resize(R + 1);
   for (std::size_t r = 0; r < R; ++r) bin_start_[r] = grid.ring_begin[r];
-  //    The sort by ring also folds identical returns (see below). Dual-return drivers send both
-  //    returns of a firing, identical where the beam met one surface (half the points of a
-  //    dual-return VLP-16 frame), one or two places apart in the ring's sequence. Such a point
-  //    (same azimuth and range as one of the two points before it in its ring's firing order,
-  //    or of the ring's last two kept points) stays off the sort, and resolveFollowers gives it
-  //    the state and grid position of its twin. That is exactly what removeDuplicates would
-  //    have decided: sorted by (azimuth, index) it comes after its twin, in the same firing
-  //    (same azimuth), never a representative, with the same range, hence the same verdict;
-  //    and the spacings measureResolution keeps do not change (it drops the zero ones). It
-  //    needs same_firing > 0 (`fold_identical`).
-  //    (How each ring arrived, which sortRing needs, is read afterwards from its kept keys,
-  //    which are in firing order: kept alongside the fold, it went through memory at every
-  //    point.)
+  //    It also folds identical dual returns (azimuth and range of one of the two points before in
+  //    the ring): kept off the sort, they get their twin's state and grid position, removeDuplicates'
+  //    verdict exactly (same firing, never a representative, same range). Needs same_firing > 0.
   follower_runs_.resize(2 * R + 2);
   std::size_t runs = 0;
   prange_[n] = -1.0;  // no point's range: foldRing's start value (readPoints leaves room for it)
@@ -91,9 +77,8 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   unfolded_largest_ = 0;
   for (std::size_t r = 0; r < R; ++r) unfolded_largest_ = std::max(unfolded_largest_, ring_count_[r + 1]);
   const std::int32_t* const ring_of = ring_of_.data();
-  // Rings that come one after another (KITTI's, an unorganized ouster's) are folded as they
-  // come, with the current ring's state in registers. Rings interleaved point by point
-  // (velodyne firing order) are scattered first and then folded ring by ring.
+  // Rings one after another (KITTI, unorganized ouster) fold as they come, state in registers;
+  // rings interleaved point by point (velodyne) are scattered first, then folded ring by ring.
   if (ringChanges(ring_of, n) > n / 8)
     runs = foldScattered(grid, fold_identical, num_followers);
   else
@@ -109,8 +94,7 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   sortEachRing(grid);
 }
 
-// Rings interleaved point by point: scattered whole, then folded ring by ring; returns the runs
-// of followers listed in follower_runs_.
+// Rings interleaved point by point; returns the number of follower runs in follower_runs_.
 std::size_t ScanGridBuilder::foldScattered(ScanGrid& grid, bool fold_identical, std::size_t& num_followers)
 {
   const std::size_t n = grid.num_input;
@@ -120,11 +104,8 @@ std::size_t ScanGridBuilder::foldScattered(ScanGrid& grid, bool fold_identical, 
   const double* const prange = prange_.data();
   Follower* const followers = followers_.data();
   std::size_t runs = 0;
-  // Scattered whole, then folded ring by ring (foldRing, ring_fold.cpp): each ring's keys are
-  // then contiguous and in firing order, and the fold keeps the two keys before each in
-  // registers, where folding while scattering loaded each ring's last two keys and ranges at
-  // every point. Probed as the other branch is: when the first kFoldProbe keys, ring by ring,
-  // fold nothing, the other rings are left as they are.
+  // Folded after the scatter: each ring's keys are then contiguous, in firing order, and the fold
+  // keeps its state in registers. If the first kFoldProbe keys fold nothing, the rest stay as is.
   scatterInterleaved(0, n);
   if (fold_identical)
   {
@@ -145,8 +126,7 @@ std::size_t ScanGridBuilder::foldScattered(ScanGrid& grid, bool fold_identical, 
   return runs;
 }
 
-// Rings one after another: each point placed (and folded) as it comes, the current ring's state
-// in registers.
+// Rings one after another: each point placed (and folded) as it comes, its ring's state in registers.
 void ScanGridBuilder::placeInOrder(ScanGrid& grid, bool fold_identical, std::size_t& num_followers)
 {
   const std::size_t n = grid.num_input;
@@ -157,18 +137,16 @@ void ScanGridBuilder::placeInOrder(ScanGrid& grid, bool fold_identical, std::siz
   const float* const paz = paz_.data();
   const double* const prange = prange_.data();
   Follower* const followers = followers_.data();
-  // One point, by its sort key, into its ring: `f` and `nx` are the ring's fold state and next
-  // slot, `fold` (std::true_type or std::false_type) whether to fold. (Captures by value but the
-  // count: through references, the compiler reloaded them after every store.)
+  // One key into its ring (`f`, `nx`: its fold state and next slot; `fold`: whether to fold).
+  // Captures by value but the count: through references they would be reloaded after every store.
   const auto place = [prange, followers, unsorted, &num_followers](std::uint64_t key, RingFold& f, std::uint32_t& nx,
                                                                    auto fold) {
     const auto az_key = static_cast<std::uint32_t>(key >> 32);
     const std::uint32_t i = keyIndex(key);
     if constexpr (decltype(fold)::value)
     {
-      // Compared as bits, in integer registers: for these values that is the float comparison
-      // (the keys of equal azimuths are equal, -0 included; valid ranges are positive and
-      // finite, and -1, the start value, matches none), without ucomis / setnp pairs.
+      // Compared as bits, which for these values is the float comparison (equal azimuths have equal
+      // keys, -0 included; valid ranges are positive and finite; the -1 start matches none).
       std::uint64_t range;
       std::memcpy(&range, &prange[i], sizeof range);
       const bool same1 = (az_key == f.az1) & (range == f.r1), same2 = (az_key == f.az2) & (range == f.r2);
@@ -224,20 +202,16 @@ void ScanGridBuilder::placeInOrder(ScanGrid& grid, bool fold_identical, std::siz
   }
 }
 
-// 2) per ring, order the keys.
+// 2) Per ring, order the keys: (azimuth, input index) is a strict total order, so the result
+// depends neither on arrival order nor on which sort finishes the ring.
 void ScanGridBuilder::sortEachRing(ScanGrid& grid)
 {
   const std::size_t R = static_cast<std::size_t>(grid.num_rings);
   std::uint32_t* const next = bin_start_.data();
   const std::uint64_t* const unsorted = keys_tmp_.data();
   std::size_t m = 0;
-  // 2) per ring, order the keys: (azimuth, input index) is a strict total order, so the result
-  //    depends neither on the order the points came in nor on which sort finishes the ring.
-  //    The rings close up over the folded points as they are sorted.
-  //    (The kept counts are taken first: sortRing's bucket sort reuses bin_start_, i.e. next.)
-  //    Each ring is sorted into a buffer of one ring's keys and split into the grid's input
-  //    indices and azimuths right away, while its keys are in L1: sorted into one array of the
-  //    frame's keys and split after the last ring, the split read them all back from memory.
+  // Kept counts first: sortRing's bucket sort reuses bin_start_ (next). Each ring is sorted into a
+  // one-ring buffer and split into indices and azimuths while its keys are still in L1.
   ring_kept_.resize(R);
   std::uint32_t largest = 0;
   for (std::size_t r = 0; r < R; ++r)
@@ -263,9 +237,8 @@ void ScanGridBuilder::sortEachRing(ScanGrid& grid)
 
 void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
 {
-  // Points [from, to) in input order into their rings' next slots, their keys made a block at a
-  // time in a loop that vectorizes (made in the scatter loop, the key was half of its work).
-  // (Restrict locals: a key's store could alias next[], which would be reloaded.)
+  // Points [from, to) into their rings' next slots, keys made a block at a time in a loop that
+  // vectorizes. (Restrict locals: a key's store could alias next[], which would be reloaded.)
   const std::int32_t* __restrict const ring_of = ring_of_.data();
   const float* __restrict const paz = paz_.data();
   std::uint32_t* __restrict const next = bin_start_.data();
@@ -281,10 +254,8 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
     {
       const std::int32_t r = ring_of[i0 + j];
       if (r < 0) continue;
-      // Each ring's slots are a store stream of their own, sixteen to 64 of them interleaved
-      // point by point, more than the hardware's stream prefetch follows, and their lines were
-      // last written a frame ago: the line kScatterAhead keys ahead of this ring's cursor is
-      // asked for (one prefetch a key, most of them to a line already asked for).
+      // 16-64 interleaved store streams (one per ring) are more than hardware prefetch follows,
+      // and their lines are cold: ask for the line kScatterAhead keys ahead of the ring's cursor.
       detail::prefetchForWrite(unsorted, (std::size_t{next[r]} + kScatterAhead) * sizeof *unsorted);
       unsorted[next[r]++] = keys[j];
     }
@@ -293,18 +264,12 @@ void ScanGridBuilder::scatterInterleaved(std::size_t from, std::size_t to)
 
 void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
 {
-  // In list order within each ring: a follower's twin is a point of its ring that was kept
-  // (placed on the sort), whose state removeDuplicates has decided, or, from foldRing, possibly a
-  // follower listed before it in its ring (a third identical return), whose verdict is set by
-  // then. The rings' lists (runs, in input order each) go side by side, the followers of each
-  // ring below `limit` in turn: their twins lie one firing apart in the input, so a ring's list
-  // went through the whole of state and grid_pos, a line or two a follower; side by side, the
-  // rings' followers in one stretch of the input share its lines. Rings one after another
-  // (KITTI) are one run, in list order.
+  // In list order per ring, a follower's twin is a kept point (decided by removeDuplicates) or an
+  // earlier follower (a third identical return), decided by then. The rings' runs advance side by
+  // side, kBlock input points at a time, so nearby followers share the lines of state / grid_pos.
   PointState* const state = grid.state.data();
   std::int32_t* const grid_pos = grid.grid_pos.data();
-  // The duplicates counted in a register: incremented through `++(duplicate ? a : b)`, each one
-  // waited on the store of the one before (nearly every follower of a dual-return frame is one).
+  // Counted in a register: through `++(duplicate ? a : b)` each would wait on the store before.
   std::size_t duplicates = 0;
   const Follower* const followers = followers_.data();
   std::uint32_t* const runs = follower_runs_.data();  // each run's next follower, and its end

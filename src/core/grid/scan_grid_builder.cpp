@@ -1,7 +1,5 @@
-// Builds the ring x azimuth scan grid in O(n): the input pass (grid_input.cpp), a counting sort
-// by ring and an insertion sort by azimuth within each ring (ring_sort.cpp), the measured
-// resolution (grid_resolution.cpp), then dual returns, the gather in grid order, links along
-// rings, and the nearest sample on the ring above (grid_vertical.cpp).
+// The grid stage's driver (build), dual returns, the gather in grid order and the links along
+// rings; the other steps have files of their own (see scan_grid_builder.hpp).
 #include "ring_curvature/scan_grid.hpp"
 #include "grid/scan_grid_builder.hpp"
 
@@ -21,9 +19,8 @@ namespace ring_curvature
 namespace
 {
 
-// Grid coordinates in grid order from the input pass's float32 copies (float32 widens to double
-// exactly). The four store streams' lines were last written a frame ago: each is asked for
-// kWriteAhead positions ahead (ring_curvature/prefetch.hpp), once a line.
+// Grid coordinates from the input pass's float32 copies (float32 widens to double exactly); the
+// four store streams' lines are cold, so each is prefetched kWriteAhead ahead, once a line.
 RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
                               const float* __restrict py, const float* __restrict pz, const double* __restrict prange,
                               double* __restrict gx, double* __restrict gy, double* __restrict gz,
@@ -47,9 +44,8 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
   }
 }
 
-// How many samples from p on (in whole groups of eight, before e) are each at least
-// `same_firing` after their predecessor (az[p - 1] included): the stretch removeDuplicates keeps
-// as it is. A difference that is NaN or not below same_firing counts as kept, as there.
+// How many samples from p on (whole groups of eight, before e) are each at least `same_firing`
+// after their predecessor: the stretch removeDuplicates keeps as is (NaN counts as kept, as there).
 std::uint32_t keptStretch(const float* az, std::uint32_t p, std::uint32_t e, float same_firing)
 {
   std::uint32_t q = p;
@@ -62,9 +58,7 @@ std::uint32_t keptStretch(const float* az, std::uint32_t p, std::uint32_t e, flo
   return q - p;
 }
 
-// Links along a ring (b, e): one test per sample against its predecessor, in loops of their own
-// that the compiler vectorizes (through the grid's vectors and with the organized / unorganized
-// choice inside, it went one byte at a time).
+// Links along a ring (b, e) against each predecessor, in loops of their own so that they vectorize.
 RC_SIMD_CLONES void linkAzimuths(std::size_t b, std::size_t e, const float* __restrict az, float max_step,
                                  std::uint8_t* __restrict linked)
 {
@@ -151,11 +145,8 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
 // ring's mean elevation.
 void ScanGridBuilder::gatherGrid(const PointCloudView& view, ScanGrid& grid)
 {
-  // Gather the structure-of-arrays grid in final order. For float32 clouds x, y, z come from
-  // the input pass's float copies, 12 bytes a point where the records are 22 (velodyne) or 48
-  // (ouster); the values are the same (float32 widens to double exactly). Other clouds are read
-  // from their records (float64 keeps its precision). The sorted order and azimuths become the
-  // grid's by a swap (the scratch takes the grid's old buffers: no copy, no allocation).
+  // float32 clouds take x, y, z from the input pass's compact copies (float32 widens exactly);
+  // others read their records (float64 keeps its precision). Order and azimuths move by swap.
   const std::size_t m = tmp_index_.size();
   grid.index.swap(tmp_index_);
   grid.azimuth.swap(sorted_az_);
@@ -239,10 +230,8 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
     float rep_az = 0.0f;
     for (std::uint32_t p = b; p < e; ++p)
     {
-      // Past the ring's first sample, the stretch of samples each at least a firing after its
-      // predecessor is kept whole: each is then at least that far from the representative too
-      // (an earlier sample in the sorted ring), so the loop below would keep every one. On a
-      // single-return frame that is nearly every sample.
+      // A stretch each at least a firing after its predecessor is kept whole: each is that far
+      // from the representative too, so the loop below would keep every one.
       if (rep >= 0)
       {
         const std::uint32_t k = keptStretch(sorted_az_.data(), p, e, same_firing);

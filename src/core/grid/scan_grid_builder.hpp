@@ -1,9 +1,6 @@
-// The grid stage: builds the ring x azimuth ScanGrid from a PointCloudView in O(n). Its steps,
-// one file each in this folder: the checks of the view (cloud_view_checks.cpp), the input pass
-// (input_pass.cpp), the organized placement (organized_placement.cpp), the ring sort and the
-// fold of identical returns (ring_sort.cpp, ring_fold.cpp), the azimuth resolution
-// (resolution.cpp), duplicates and links (scan_grid_builder.cpp) and the vertical neighbours
-// (vertical_neighbours.cpp).
+// The grid stage: builds the ring x azimuth ScanGrid from a PointCloudView in O(n). One file a
+// step: cloud_view_checks, input_pass, organized_placement, ring_sort / ring_order / ring_fold,
+// resolution, scan_grid_builder.cpp (duplicates, gather, links), vertical_neighbours.
 #pragma once
 
 #include "grid/spacing_median.hpp"
@@ -52,9 +49,8 @@ private:
   void sortEachRing(ScanGrid& grid);
   /// Scatters points [from, to) of rings interleaved point by point into their rings (ring_sort.cpp).
   void scatterInterleaved(std::size_t from, std::size_t to);
-  /// Folds one ring's k keys in firing order in place (ring_fold.cpp): keeps a key unless its
-  /// azimuth and range equal those of one of the two keys before it as they came, and lists the
-  /// others in `followers` from `num_followers` on (one entry past the count is written).
+  /// Folds one ring's k keys in firing order in place: keeps a key unless its azimuth and range
+  /// equal one of the two raw keys before it, listing the others in `followers` (writes one past).
   /// `sentinel` is a key whose range (range[index]) no point has. Returns the number kept.
   static std::uint32_t foldRing(std::uint64_t* keys, std::uint32_t k, std::uint64_t sentinel, const double* range,
                                 Follower* followers, std::size_t& num_followers);

@@ -11,10 +11,8 @@ namespace ring_curvature
 namespace detail
 {
 
-// The sort key: the azimuth's float bits mapped to an unsigned key of the same order (a -0
-// azimuth is made +0 first, so equal floats give equal keys), with the input index below: one
-// 64-bit comparison is the order (azimuth, input index) exactly, and the sorts move one
-// register-sized value.
+// The sort key: the azimuth's bits mapped to an unsigned key of the same order (-0 made +0 first,
+// so equal floats give equal keys) above the input index: one 64-bit comparison is the order.
 inline std::uint32_t azimuthKey(float azimuth) { return detail::orderedKey(azimuth + 0.0f); }
 inline float keyAzimuth(std::uint64_t key)
 {

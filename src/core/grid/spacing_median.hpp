@@ -8,18 +8,16 @@
 namespace ring_curvature
 {
 
-/// The grid's measured azimuth resolution from the spacings d[0, total) of neighbouring samples
-/// on a ring (each |difference| >= 0, or NaN): the median of the kept ones (above 1e-5 rad: not
-/// a same-firing duplicate; below 5 deg: not a gap), i.e. the element of rank n / 2 of the n
-/// kept, as nth_element would give; `none` when none is kept. Keeps its scratch between frames
-/// (resolution.cpp; a class of its own so that the tests reach both of its paths).
+/// The grid's measured azimuth resolution from the spacings d[0, total) of neighbouring samples on
+/// a ring (each >= 0, or NaN): the element of rank n / 2 of the n kept ones (above 1e-5 rad: not a
+/// duplicate; below 5 deg: not a gap), as nth_element gives; `none` when none is kept. A class of
+/// its own, keeping its scratch between frames, so that the tests reach both of its paths.
 class SpacingMedian
 {
 public:
   /// d is overwritten when the frame is small or the sample's bracket misses.
   float operator()(float* d, std::size_t total, float none);
-  /// Whether the last call found the median inside the bracket from its sample (else it
-  /// selected among all the kept spacings).
+  /// Whether the last call found the median inside its sample's bracket (else it selected among all).
   bool bracketed() const { return bracketed_; }
 
 private:

@@ -16,11 +16,9 @@ namespace ring_curvature
 namespace
 {
 
-// The nearest sample above each position p of a ring (b, e), with up[p] the last sample of the
-// ring above (ub, ue) at or before p's azimuth (or ub): of up[p], its successor (around the
-// seam) and the ring's last one, the nearest azimuth circularly, the first of equals in that
-// order. Branch-free: which one wins is a coin toss per point. |wrapPi(d)| for |d| < 2 pi is
-// |d| or 2 pi - |d|, the same float operations.
+// The nearest sample above each p of ring (b, e), up[p] being the last of ring (ub, ue) at or before
+// p's azimuth (or ub): of up[p], its successor (around the seam) and the ring's last, the circularly
+// nearest (first of equals; circularDistance is |wrapPi| exactly). Branch-free: a coin toss each.
 RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t ub, std::uint32_t ue,
                                  const float* __restrict az, std::int32_t* __restrict up)
 {
@@ -67,9 +65,8 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   const std::size_t m = grid.size();
   if (grid.organized)
   {
-    // The same column one row up: its grid position, which is -1 for a point off the grid (an
-    // organized cloud has no duplicates, and the input pass set every point's to -1 before the
-    // grid positions were written), so no test per point; the top ring has no row above.
+    // The same column one row up: its grid_pos is -1 for a point off the grid (no duplicates when
+    // organized; the input pass set all to -1), so no test per point. The top ring has none above.
     grid.up.resize(m);
     const std::size_t width = grid.num_input / static_cast<std::size_t>(grid.num_rings);
     const std::uint32_t top = grid.ring_begin[static_cast<std::size_t>(grid.num_rings) - 1];
@@ -77,13 +74,10 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
     std::fill(grid.up.begin() + top, grid.up.end(), -1);
     return;
   }
-  // Every position of a ring followed by a non-empty one is written below; only the others are
-  // filled with -1 (a fill of all of them first wrote every entry twice).
+  // Positions of a ring followed by a non-empty one are written below; only the others get -1.
   grid.up.resize(m);
-  // Two sorted sequences: walk them together to the last sample above at or before each
-  // azimuth, then take the nearest of it, its successor (around the seam) and the last one.
-  // The walk only stores where it stopped (in `up`); the choice is a loop of its own that
-  // vectorizes (nearestAbove), where in one loop with the walk's branches it would not.
+  // Walk the two sorted rings together to the last sample above at or before each azimuth; the
+  // choice of the nearest is a loop of its own (nearestAbove) so that it vectorizes.
   const float* const az = grid.azimuth.data();
   std::int32_t* const up = grid.up.data();
   for (int n = 0; n + 1 < grid.num_rings; ++n)

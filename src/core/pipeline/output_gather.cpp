@@ -10,11 +10,8 @@ namespace ring_curvature
 namespace detail
 {
 
-// Input points [i0, i1): those on the grid (OnGrid, or Duplicate: their representative's
-// position) gather their grid position's results, the others get none. Walks the input in order:
-// the writes are sequential and every entry is written once, while the reads follow the rings (a
-// few streams per array, cached). Filling the arrays first and then scattering in grid order
-// wrote each entry twice, with stores a cache line apart.
+// Walks the input in order, so the writes are sequential and each entry is written once; the
+// reads follow the rings (a few cached streams per array).
 void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
 {
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
@@ -40,13 +37,9 @@ void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
   }
 }
 
-// gatherOutput eight points a group: a group whose points are all on the grid (most of a
-// single-return frame) reads its entries without a test, one all off (an organized cloud's
-// padding) stores the unlabelled values, and a mixed one (dual-return frames, where firsts and
-// second returns alternate; the edges of the padding) reads each point's entries, or position
-// 0's if it has none, and keeps them or the unlabelled values by selection: there gatherOutput's
-// branch mispredicted. The floats are selected as their bits, so that the compiler selects
-// rather than branches. grid_size > 0.
+// Eight points a group: all on the grid reads without a test, all off (organized padding) stores
+// the unlabelled values, and a mixed group (dual returns) reads each point's entries (position 0's
+// if none) and selects, as a branch would mispredict; floats as bits, so the compiler selects too.
 void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
 {
   const std::uint32_t nan_bits = 0x7fc00000u;  // std::numeric_limits<float>::quiet_NaN()
@@ -57,7 +50,7 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
   auto* const out_smoothness = reinterpret_cast<std::uint32_t*>(o.out_smoothness);
   auto* const out_discontinuity = reinterpret_cast<std::uint32_t*>(o.out_discontinuity);
   const auto* const state = reinterpret_cast<const std::uint8_t*>(o.state);
-  // (locals: through `o`, every pointer was reloaded after each label's byte store)
+  // (locals: through `o` every pointer would be reloaded after each label's byte store)
   const std::int32_t* const grid_pos = o.grid_pos;
   const std::uint8_t* const label = o.label;
   const std::int32_t* const primitive = o.primitive;
@@ -93,8 +86,7 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
       }
       continue;
     }
-    // (a loop, not unrolled: unrolled eight times it held more pointers than there are
-    // registers and reloaded them from the stack; the all-on loop above gains from unrolling)
+    // (not unrolled: unrolled, its pointers outnumber the registers and spill to the stack)
 #pragma GCC unroll 1
     for (std::size_t j = i; j < i + 8; ++j)
     {
@@ -113,11 +105,8 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
   gatherOutput(o, i, i1);
 }
 
-// Points of each label but None among labels[0, n) (counts[0] is left alone). Sixteen bytes at a
-// time: a match compares to all ones (-1), subtracted into one byte counter per lane and label,
-// and the counters are summed out before they can wrap (every 255 groups). Written as vectors:
-// the plain loop the compiler vectorized widened every comparison to 32 bits (four instructions
-// a label, where these are one compare and one subtract a label per sixteen).
+// Sixteen bytes at a time: a match (-1) is subtracted into byte counters per lane and label, summed
+// out before they wrap (every 255 groups); vectors, as the compiler widens comparisons to 32 bits.
 using V16u8 = std::uint8_t __attribute__((vector_size(16)));
 void countLabels(const std::uint8_t* labels, std::size_t n, std::array<std::uint32_t, kNumLabels>& counts)
 {

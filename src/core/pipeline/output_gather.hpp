@@ -14,9 +14,8 @@ namespace ring_curvature
 namespace detail
 {
 
-// The per-point outputs and where they come from (raw pointers: a label is a byte, and a byte
-// store may alias anything, so through the vectors the compiler reloaded every data pointer after
-// each label store).
+// The per-point outputs and their sources (raw pointers: a label byte store may alias anything, so
+// through the vectors every data pointer would be reloaded after each one).
 struct OutputArrays
 {
   const PointState* state;

@@ -12,18 +12,13 @@ namespace
 {
 constexpr double kEps = 2.220446049250313e-16;  // (Eigen's NumTraits<double>::epsilon())
 // Half the pair's gap over sqrt(a) (h below) under which its eigenvalues are found again from the
-// matrix: the quadratic's gap, from q, keeps fewer than ~28 of its bits there. 14 % of the solves
-// on the 29k frames (strips of one or two rings), 0.5 % on KITTI's; each costs some 40 operations
-// more, and one more kernel where the vector asked for is in the pair.
-// Where h is 0 (q rounded to zero or below: a pair equal to about sqrt(eps), as in the rank-one
-// covariance of two points) the pair stays equal, as computeDirect has it.
+// matrix: the quadratic's gap from q keeps fewer than ~28 of its bits there. Where h is 0 (a pair
+// equal to about sqrt(eps), as two points' rank-one covariance) it stays equal, as in computeDirect.
 constexpr double kClosePair = 1.0 / 4096;
 
-// Eigen's extract_kernel (SelfAdjointEigenSolver.h) on the symmetric m, which is singular: the
-// cross products of m's column of largest diagonal magnitude (the first of equal ones) with the
-// other two, the longer one normalised. Its choice, not the longest of all three products, so
-// that the vector keeps computeDirect's sign. Returns that column's index (extract_kernel's
-// `representative`).
+// Eigen's extract_kernel on the singular symmetric m: the cross products of m's column of largest
+// diagonal magnitude (first of equals) with the other two, the longer normalised. Its choice, not
+// the longest of all three, keeps computeDirect's sign. Returns that column (`representative`).
 inline int extractKernel(const double m[3][3], Eigen::Vector3d& v)
 {
   int i0 = 0;
@@ -57,10 +52,8 @@ inline void shifted(const double m[3][3], double lambda, double out[3][3])
   out[0][0] -= lambda, out[1][1] -= lambda, out[2][2] -= lambda;
 }
 
-// cov shifted to its mean eigenvalue (as computeDirect) and scaled by a power of two that puts
-// the largest magnitude in [1, 2): exact both ways, where computeDirect's division by the
-// largest magnitude rounded each coefficient, and one multiplication instead of nine divisions.
-// False for a multiple of the identity (nothing to scale).
+// cov shifted to its mean eigenvalue (as computeDirect), scaled by a power of two to put the largest
+// magnitude in [1, 2): exact (computeDirect's division rounds). False for a multiple of identity.
 bool scaledShifted(const Eigen::Matrix3d& cov, double m[3][3], double& shift, double& up)
 {
   shift = (cov(0, 0) + cov(1, 1) + cov(2, 2)) / 3.0;
@@ -84,8 +77,7 @@ bool scaledShifted(const Eigen::Matrix3d& cov, double m[3][3], double& shift, do
   return true;
 }
 
-// The eigenvalues of the scaled matrix, ascending, and the terms the close pair's refinement
-// reuses.
+// The scaled matrix's eigenvalues, ascending, and the terms the close pair's refinement reuses.
 struct CubicRoots
 {
   double l0, l1, l2;
@@ -95,11 +87,10 @@ struct CubicRoots
 
 CubicRoots cubicRoots(const double m[3][3])
 {
-  // The characteristic cubic x^3 - c2 x^2 + c1 x - c0 as computeDirect's computeRoots forms it,
-  // depressed (y = x - c2 / 3) to y^3 - 3 a y - 2 b, whose roots are 2 sqrt(a) t for the roots t of
-  // t^3 - 3 t = 2 c, c = b / a^1.5 in [-1, 1]. The root of largest magnitude is the one farthest from
-  // the other two (the roots sum to zero), so a simple root, well conditioned: it is the largest
-  // where c >= 0, the smallest where c < 0 (by symmetry, -(the largest root for -c)).
+  // The characteristic cubic as computeRoots forms it, depressed (y = x - c2 / 3) to y^3 - 3 a y - 2 b,
+  // roots 2 sqrt(a) t for t^3 - 3 t = 2 c, c = b / a^1.5 in [-1, 1]. The root of largest magnitude is
+  // farthest from the others (they sum to zero), so simple and well conditioned: the largest where
+  // c >= 0, else the smallest (-(the largest root for -c)).
   const double c0 = m[0][0] * m[1][1] * m[2][2] + 2.0 * m[1][0] * m[2][0] * m[2][1] - m[0][0] * m[2][1] * m[2][1] -
                     m[1][1] * m[2][0] * m[2][0] - m[2][2] * m[1][0] * m[1][0];
   const double c1 = m[0][0] * m[1][1] - m[1][0] * m[1][0] + m[0][0] * m[2][2] - m[2][0] * m[2][0] +
@@ -113,11 +104,9 @@ CubicRoots cubicRoots(const double m[3][3])
   const double rho = std::sqrt(a), arho = a * rho;
   const double c = b / arho, ac = std::abs(c);
   const double t = detail::cubicRoot(ac < 1.0 ? ac : 1.0);  // (rounding puts |c| a little above 1 at a double root)
-  // The other two roots of the depressed cubic, from the quadratic it leaves: y^2 + y1 y + y1^2 - 3 a,
-  // y = rho (-t/2 +- h), h = sqrt(3 (4 - t^2)) / 2, where 4 - t^2 = 4 (1 - c^2) / (t^2 - 1)^2 (the
-  // cubic's discriminant over the squared differences to t), so h = sqrt(3 q) / (a rho (t^2 - 1))
-  // with q = a^3 - b^2, as computeRoots forms it: t's own rounding would weigh four times
-  // as much in 4 - t^2 where the pair's gap is small, and that is the gap's error.
+  // The other two roots from the quadratic left, y = rho (-t/2 +- h): since 4 - t^2 = 4 (1 - c^2) /
+  // (t^2 - 1)^2, h = sqrt(3 q) / (a rho (t^2 - 1)) with q = a^3 - b^2, as computeRoots forms it (in
+  // 4 - t^2, t's own rounding would weigh four times as much where the pair's gap is small).
   const double q = std::max(a * a * a - b * b, 0.0);
   const double half = 0.5 * t, h = std::sqrt(3.0 * q) / (arho * (t * t - 1.0));
   CubicRoots r{0, 0, 0, c2_3, rho, half, h, c >= 0};
@@ -173,12 +162,10 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
   const bool close_pair = h > 0 && h < kClosePair;
   if (close_pair)
   {
-    // A close pair: its gap from q, a small difference of two cubes, is only good to about
-    // sqrt(eps) where it is that small (computeDirect's closed form has the same error). The
-    // pair's eigenvalues again from m restricted to the plane orthogonal to the vector apart,
-    // Q = m - mu I - (lk - mu) vk vk^T about the pair's mean mu: Q vk = (m - lk I) vk = 0, and
-    // its two other eigenvalues are +- g / 2 (mu is good to about eps), so its squared Frobenius
-    // norm is g^2 / 2: a sum without cancellation, the gap to about eps.
+    // The gap from q, a small difference of two cubes, is good to only ~sqrt(eps) here (as in
+    // computeDirect). Again from Q = m - mu I - (lk - mu) vk vk^T about the pair's mean mu: Q vk = 0
+    // and its other eigenvalues are +- g / 2, so its squared Frobenius norm g^2 / 2 is a sum without
+    // cancellation, the gap to about eps.
     kernelApart();
     const double mu = top ? c2_3 - rho * half : c2_3 + rho * half, sk = lk - mu;
     const double q00 = m[0][0] - mu - sk * vk(0) * vk(0), q11 = m[1][1] - mu - sk * vk(1) * vk(1);
@@ -193,10 +180,9 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
       l1 = lo, l2 = hi;
   }
   eigenvalues = Eigen::Vector3d(l0 * up + shift, l1 * up + shift, l2 * up + shift);
-  // The kernel of m shifted by the asked-for eigenvalue, as computeDirect finds its column; where
-  // that eigenvalue is one of two numerically equal ones (its test: the pair's gap at most 2 eps
-  // times the other gap), the kernel is a plane, and computeDirect takes the representative column
-  // of the other eigenvalue's kernel: a vector orthogonal to that eigenvalue's vector.
+  // The kernel of m shifted by the asked-for eigenvalue, as computeDirect finds it; where two are
+  // numerically equal (pair gap <= 2 eps times the other gap) the kernel is a plane, and computeDirect
+  // takes the representative column of the other eigenvalue's kernel, orthogonal to its vector.
   if (which == k)
   {
     kernelApart();
@@ -214,10 +200,8 @@ void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eige
   shifted(m, which == 0 ? l0 : l2, mw);
   extractKernel(mw, axis);
   if (!close_pair) return;
-  // In a close pair that kernel is good to about eps over the gap within the pair's plane, but
-  // its part along the vector apart may be as large (all three products are small there): made
-  // orthogonal to it (Gram-Schmidt), it lies in the plane; where little of it was in the plane
-  // (a gap at the rounding's level), the representative column instead.
+  // In a close pair that kernel may lean along the vector apart by its error: made orthogonal to it
+  // (Gram-Schmidt) it lies in the pair's plane; if little is left, the representative column.
   const Eigen::Vector3d in_plane = axis - axis.dot(vk) * vk;
   if (in_plane.squaredNorm() >= 0.25)
     axis = in_plane.normalized();

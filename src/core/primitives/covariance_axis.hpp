@@ -8,34 +8,24 @@
 namespace ring_curvature
 {
 
-/// Eigenvalues of the symmetric matrix `cov` (only its lower triangle is read), ascending, and
-/// the unit eigenvector of eigenvalue `which` (0: the smallest, a plane's normal; 2: the largest,
-/// an edge's direction; 1 is not offered). The steps of Eigen's SelfAdjointEigenSolver::
-/// computeDirect (shift by the mean eigenvalue, scale, roots of the characteristic cubic, the
-/// kernel of the matrix shifted by the eigenvalue, with its choice of column and sign) but
-/// without its trigonometric closed form (atan2, cos and sin were 40 % of the solve), and with a
-/// close pair of eigenvalues found again from the matrix: the results differ from
-/// computeDirect's in their last bits, and are no less accurate (test_covariance_axis measures
-/// both against a long-double solver: for close pairs far more); the vector has computeDirect's
-/// sign but where its kernel choice is a near tie.
+/// Eigenvalues of the symmetric `cov` (lower triangle read), ascending, and the unit eigenvector of
+/// eigenvalue `which` (0: smallest, a plane's normal; 2: largest, an edge's direction; not 1): the
+/// steps of Eigen's SelfAdjointEigenSolver::computeDirect without its trigonometric closed form, a
+/// close pair found again from the matrix. Last bits differ, accuracy is no less (see
+/// test_covariance_axis); the sign is computeDirect's but where its kernel choice is a near tie.
 void covarianceAxis(const Eigen::Matrix3d& cov, int which, Eigen::Vector3d& eigenvalues, Eigen::Vector3d& axis);
 
 namespace detail
 {
-/// The seed of covarianceAxis' Newton step: the coefficients of c^0 ... c^8 of the degree-8
-/// Chebyshev interpolant of 2 cos(acos(c) / 3) (the largest root t of t^3 - 3 t = 2 c) on
-/// c in [0, 1], at the 9 Chebyshev nodes of that interval, expanded into powers of c in long
-/// double and rounded to double (the root is smooth on [0, 1]: its nearest singularity is the
-/// double root at c = -1). test_covariance_axis computes them again that way and holds
-/// these to it, and measures the seed's error (<= 3.7e-9) and the error after the step.
+/// The Newton step's seed: c^0 ... c^8 coefficients of the degree-8 Chebyshev interpolant of
+/// 2 cos(acos(c) / 3) (largest root of t^3 - 3 t = 2 c) on [0, 1], where it is smooth (singular at
+/// c = -1); test_covariance_axis recomputes them and bounds the seed's error (<= 3.7e-9).
 constexpr double kCubicSeed[9] = {1.7320508111991304,     0.3333327422889974,     -0.09620888290586746,
                                   0.049208593584660107,   -0.030214550322435859,  0.018766661141408167,
                                   -0.0098593823448516194, 0.0035297137462267925,  -0.00060570840289964067};
 
-/// That root for c in [0, 1]: the seed in Estrin's form (a short dependency chain), then one
-/// Newton step on the cubic (|f'| = 3 t^2 - 3 >= 6 there, so the step squares the seed's error
-/// to below the rounding of t itself; a second step changed nothing). (atan2, cos and sin in
-/// computeDirect's closed form cost more.)
+/// That root for c in [0, 1]: the seed in Estrin's form (a short dependency chain), then one Newton
+/// step (|f'| = 3 t^2 - 3 >= 6 there, so it squares the seed's error to below t's own rounding).
 inline double cubicRoot(double c)
 {
   const double* const k = kCubicSeed;

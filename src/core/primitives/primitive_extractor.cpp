@@ -1,6 +1,5 @@
-// Section 4.3: union-find over the scan grid (angular and vertical neighbours, same label,
-// proximity by Eq 19-20), then box, centroid and moments per component. Linear time, no
-// recursion.
+// Section 4.3: union-find over the scan grid (angular and vertical neighbours, same label, Eq
+// 19-20), then box, centroid and moments per component. Linear time, no recursion.
 #include "primitives/primitive_extractor.hpp"
 
 #include "primitives/covariance_axis.hpp"
@@ -20,11 +19,9 @@ namespace
 {
 using namespace detail;
 
-// The duplicates' indices into their slots: `first` (at their roots) plus rank. Where no
-// primitive is (comp -1, or an unwanted label's run: negative, both at least `total` as
-// unsigned) the slot is `total`, one past the indices, which the caller drops: one store a
-// duplicate either way, where a branch on the component mispredicted. A duplicate's slot gets no
-// grid position (slot_pos): the sums weight its representative instead of reading it.
+// The duplicates' indices into their slots: `first` (at their roots) plus rank, or `total` (one
+// past, dropped by the caller) where no primitive is (comp negative): one store each, no branch to
+// mispredict. Duplicates get no slot_pos: the sums weight their representative instead.
 void duplicateSlots(const std::uint32_t* __restrict dups, std::size_t num_dups, const std::int32_t* __restrict first,
                     const std::uint32_t* __restrict dup_root, const std::uint32_t* __restrict dup_rank,
                     std::uint32_t total, std::uint32_t* __restrict indices)
@@ -44,8 +41,7 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
 {
   const std::size_t m = g.size();
   out.primitives.clear();
-  // indices and of_grid: every entry is written below, so neither is cleared: a resize then
-  // fills only what exceeds last frame's size
+  // indices and of_grid: every entry is written below, so a resize need not clear them
   out.of_grid.resize(m);
   // at most one run per position; num_runs counts the ones in use. Id m (none): the unwanted
   // labels' positions, one more entry in parent and comp.
@@ -64,10 +60,9 @@ void PrimitiveExtractor::extract(const ScanGrid& g, const std::vector<Label>& la
   summarize(g, out);
 }
 
-// Most angular neighbours unite, so each ring is first cut into runs (see Run): a position joins
-// its predecessor's run with a store instead of two find() calls. Only the runs (by id, see
-// cutRing) enter the union-find forest. Ring n is cut before the vertical unions of ring n-1
-// reach into it (up[] of ring n-1 points into ring n).
+// Most angular neighbours unite, so each ring is first cut into runs (a store per position, not two
+// find() calls); only runs enter the union-find forest. Ring n is cut before the vertical unions
+// of ring n-1 reach into it.
 std::size_t PrimitiveExtractor::uniteRuns(const ScanGrid& g, const Label* lab, const Params& P)
 {
   // a table: this is asked once or more per grid position in every loop
@@ -77,8 +72,7 @@ std::size_t PrimitiveExtractor::uniteRuns(const ScanGrid& g, const Label* lab, c
                 "want[] is indexed by Label");
   const float az_tol = P.proximity_azimuth_factor * g.azimuth_resolution;  // Eq 19
   const std::uint8_t num_wanted = P.rough_primitives ? 4 : 3;  // want[] as a range: labels 1 to num_wanted
-  // Raw pointers and parameters in locals, read once: through the vectors and P the compiler
-  // reloads them inside the loops, as it may not prove that the stores leave them unchanged.
+  // Pointers and parameters in locals: through the vectors and P they would be reloaded in the loops.
   const std::uint32_t* const ring_begin = g.ring_begin.data();
   const double* const range = g.range.data();
   const float* const azimuth = g.azimuth.data();
@@ -93,9 +87,8 @@ std::size_t PrimitiveExtractor::uniteRuns(const ScanGrid& g, const Label* lab, c
   std::uint8_t* const join = join_.data();
   const auto none = static_cast<std::uint32_t>(g.size());
   parent[none] = none;
-  // A component's size is counted at its root. A duplicate of an unwanted label's position
-  // counts at `none`, which starts far below zero: it counts without a test and its component
-  // reads as rejected (negative).
+  // A component's size counts at its root. An unwanted position's duplicate counts at `none`, which
+  // starts far below zero: no test, and its component reads as rejected (negative).
   comp[none] = std::numeric_limits<std::int32_t>::min();
   std::size_t num_runs = 0, ring_runs = 0;  // ring_runs: the first run of ring n-1
   for (int n = 0; n < g.num_rings; ++n)
@@ -126,11 +119,9 @@ std::size_t PrimitiveExtractor::uniteRuns(const ScanGrid& g, const Label* lab, c
   return num_runs;
 }
 
-// A root is the smallest run id of its component (see unite), so it is the component's first
-// run, and path halving keeps parent[k] <= k: in grid order, parent[parent[k]] is already the
-// root, and is stored back for the look-ups that follow. Roots are listed as they come, i.e. in
-// scan order. Each run keeps its rank among the points of its component (the count before it),
-// which is where its indices go: the fill then needs no cursor per primitive.
+// A root is its component's smallest run id (see unite), and path halving keeps parent[k] <= k, so
+// in grid order parent[parent[k]] is already the root (stored back). Roots are listed in scan
+// order. Each run keeps its rank among its component's points: where its indices go, no cursor.
 std::size_t PrimitiveExtractor::countComponents(std::size_t num_runs)
 {
   std::uint32_t* const parent = parent_.data();
@@ -153,13 +144,9 @@ std::size_t PrimitiveExtractor::countComponents(std::size_t num_runs)
   return num_roots;
 }
 
-// Duplicates (same firing, same range) join their representative's primitive, after its grid
-// points, in input order, and count at their representative's grid position, whose weight in the
-// sums they are (primitive_sums.cpp). The counts are uint32: a position has fewer duplicates
-// than the cloud has points, whose indices are uint32. dup_count_ is zero between frames
-// (cleared after the sums; a resize zero-fills new entries), so that a frame with a few
-// duplicates clears only their entries, not the grid's. (If an exception left it dirty, e.g.
-// bad_alloc, it is cleared in full first.)
+// Duplicates join their representative's primitive after its grid points and count at its grid
+// position as its weight in the sums. dup_count_ is zero between frames, so a frame clears only
+// its duplicates' entries (all of it if an exception left it dirty).
 void PrimitiveExtractor::joinDuplicates(const ScanGrid& g)
 {
   const std::uint32_t* const dups = g.duplicates.data();
@@ -216,9 +203,8 @@ std::uint32_t PrimitiveExtractor::numberPrimitives(const Label* lab, const Param
   return total;
 }
 
-// Indices, run by run: a run is a block of consecutive positions and input indices. Each grid
-// point's entry of `indices` also gets its grid position (slot_pos_), so that the sums walk a
-// primitive's grid points in the order of its indices with sequential reads and register sums.
+// Indices run by run (consecutive positions and input indices); each entry's grid position goes to
+// slot_pos_, so that the sums read a primitive's grid points sequentially, in index order.
 void PrimitiveExtractor::fillIndices(const ScanGrid& g, std::size_t num_runs, std::uint32_t total, PrimitiveSet& out)
 {
   // not cleared: see of_grid. One more entry: the rejected duplicates' (duplicateSlots).
@@ -261,9 +247,8 @@ void PrimitiveExtractor::fillIndices(const ScanGrid& g, std::size_t num_runs, st
       }
       continue;
     }
-    // Four positions a step, the last step ending at the run's end (overlapping the one before:
-    // it writes the same values again). One scalar position a step was bound by its three
-    // stores; the compiler's own vectorized loop cost more than it saved on short runs.
+    // Four positions a step (three scalar stores a position would bound the loop), the last step
+    // ending at the run's end, overlapping the one before with the same values.
     const U4 ids = U4{0, 0, 0, 0} + static_cast<std::uint32_t>(id);
     const auto step = [index, indices, slot_pos, of_grid, s, slot, ids](std::uint32_t o) {
       U4 v;
@@ -286,9 +271,8 @@ void PrimitiveExtractor::fillIndices(const ScanGrid& g, std::size_t num_runs, st
   out.indices.resize(total);
 }
 
-// Box, centroid, moments and axes, primitive by primitive (primitive_sums.cpp for the sums, one
-// pass in double over the grid points, each weighted by its duplicates: the covariance is about
-// the mean, the centroid that mean rounded to float).
+// Box, centroid, moments and axes, primitive by primitive (primitive_sums.cpp: one pass in double,
+// each grid point weighted by its duplicates; the centroid is the mean rounded to float).
 void PrimitiveExtractor::summarize(const ScanGrid& g, PrimitiveSet& out)
 {
   std::uint32_t* const dup_count = dup_count_in_use_;

@@ -7,44 +7,16 @@
 namespace ring_curvature
 {
 
-// Box, centroid and second moments of one primitive from the grid positions of its grid points,
-// in the order of its indices, in one pass over them. The first point's coordinates are the
-// reference r; each grid point p, of weight w (below: 1 in a primitive without duplicates),
-// adds in double w d, (w d) d and (w d) rot(d), d = p - r, rot(d) = (dy, dz, dx), and goes to
-// the box's min and max. finishSums then takes the mean as r + sum(w d) / n and the moments
-// about it as sum(w d d^T) - sum(w d) sum(w d)^T / n, n the primitive's points, duplicates
-// included.
-// - Duplicates (dual return: the second return of a firing at the first one's range) are their
-//   representative's point again. A grid point with c of them (counted per grid position by
-//   extract) stands for w = 1 + c points. Each duplicate added its representative's terms once
-//   more would do the sums' work twice on dual-return frames, where about half the points are
-//   duplicates. The product by w = 2 is exact, so the terms are those of the point added twice
-//   (w > 2, more identical returns of one firing, rounds w d once). A primitive without
-//   duplicates (every one on a single-return frame) takes the unweighted loop.
-// - Why one pass: the box and a float centroid came first and the moments about that centroid
-//   second, which read every point's coordinates twice; the first pass waited on their loads.
-// - Accuracy: that centroid was a float sum (80 m away, floats are 4-8 um apart, and the sum's
-//   rounding grows with the points), and moments about a centroid off by e carry n e e^T more
-//   than those about the mean. Here every sum is double and the moments are about the mean
-//   itself (core_test_primitive_sums holds both schemes to a long double two-pass reference).
-// - Cancellation: r is one of the points, so each |d| is at most the primitive's extent along
-//   its axis, as are sum(d) / n and the two-pass scheme's differences from the mean; the terms
-//   subtracted are no larger than n extent^2, so the rounding is that of a two-pass sum with
-//   differences of the primitive's size. (About the origin instead, 80 m away, the terms would
-//   be n 6400 m^2 against a spread of cm^2: all the digits would cancel.)
-// - The box in double, converted once at the end: rounding to float is monotonic, so the float
-//   of the least double is the least of the floats, the same box as min / max of the points'
-//   floats (as before) but one conversion a primitive instead of one a point. The bits match
-//   too, ties included (both keep the earlier point), except for a zero's sign where a nonzero
-//   coordinate within 2^-150 of 0 rounds to a float zero (never a float's coordinate).
-// - Lanes (x, y, z, z): a point's coordinates, d, the sums and the box are one double vector
-//   each (GCC vector extensions: one AVX2 vector in the AVX2 clone, two halves elsewhere), each
-//   lane the same subtraction, product, sum, min and max as the scalar definition. The first
-//   point adds d = 0, times any w (+0 to sums that are +0), so the loops start at the second.
-// - The weighted loop weights every grid point, c = 0 included (1 d is d exactly: the
-//   unweighted terms), without a branch on c.
-// - The six distinct moments only: d d^T is symmetric (d_i d_j and d_j d_i are the same double),
-//   so extract fills the matrix from them once per primitive.
+// One pass: with r the first point and d = p - r, each grid point of weight w adds in double w d,
+// (w d) d and (w d) rot(d), rot(d) = (dy, dz, dx); the mean is r + sum(w d) / n, the moments
+// sum(w d d^T) - sum(w d) sum(w d)^T / n (only the six distinct ones), n counting duplicates.
+// - A grid point with c duplicates stands for w = 1 + c points: w = 2 is an exact product, the
+//   point's terms twice (w > 2 rounds once). The weighted loop has no branch on c (1 d is d).
+// - Precision: double sums about a point of the primitive, so |d| is at most its extent and the
+//   cancellation is a two-pass sum's (about the origin, n 6400 m^2 against cm^2 would cancel all).
+// - The box in double, converted once: rounding to float is monotonic, so it equals min / max of
+//   the floats bit for bit but for a zero's sign (a coordinate within 2^-150 of 0; never a float's).
+// - Lanes (x, y, z, z) do the scalar operations; the first point adds d = 0, so loops skip it.
 namespace
 {
 // The pass's sums, lanes (x, y, z, z): r, the box, sum(d), d d = (xx, yy, zz, zz) and

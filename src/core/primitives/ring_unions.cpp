@@ -1,5 +1,4 @@
-// The union-find steps of the primitive extraction (see ring_unions.hpp). Linear time, no
-// recursion.
+// The union-find steps of the primitive extraction (see ring_unions.hpp): linear time, no recursion.
 #include "primitives/ring_unions.hpp"
 
 #include "primitives/proximity.hpp"
@@ -17,10 +16,8 @@ namespace
 using D4 = double __attribute__((vector_size(32)));
 using I4 = long long __attribute__((vector_size(32)));
 
-// Position p of run rp (label l, end pe) with the nearest sample above, uu, and the ones beside
-// it, c1 and c2, where in0, in1, in2 say which of the three are within Eq 20 of p: see
-// verticalUnions. Returns the last position it covers: p, or beyond it where the positions after
-// it can only unite what is united now.
+// Position p of run rp against uu (nearest above) and c1, c2 beside it (in0..in2: within Eq 20).
+// Returns the last position covered: p, or beyond where later ones only unite what is united.
 __attribute__((always_inline)) inline std::uint32_t joinAbove(const VerticalRing& V, std::uint32_t rp, Label l,
                                                               std::uint32_t p, std::uint32_t pe, std::uint32_t uu,
                                                               std::uint32_t c1, std::uint32_t c2, bool in0, bool in1,
@@ -50,11 +47,8 @@ __attribute__((always_inline)) inline std::uint32_t joinAbove(const VerticalRing
     last_rp = rp;
     last_rq = rq;
   }
-  // The next positions of the same run whose candidates all lie in rq's run (no seam
-  // between them) can only unite what is united now: skip them untested. Runs are
-  // contiguous: u-1, u, u+1 lie in rq's [qb, qe) when qb + 1 <= u <= qe - 2 (then also
-  // b < u and u + 1 < e): one compare a position, where reading run[] at u - 1 and u + 1
-  // took two loads and four tests.
+  // Later positions of the run whose candidates u-1, u, u+1 all lie in rq's run [qb, qe) (runs are
+  // contiguous: qb + 1 <= u <= qe - 2) can only unite what is united now: skipped, one compare each.
   const std::uint32_t qb = V.runs[rq].begin, qe = V.runs[rq].end;
   if (qe - qb >= 3)
   {
@@ -65,11 +59,8 @@ __attribute__((always_inline)) inline std::uint32_t joinAbove(const VerticalRing
 }
 }  // namespace
 
-// Which positions (b, e) of a ring join their predecessor's run: same wanted label (labels 1 to
-// num_wanted), linked, and close by Eq 19-20, in the operand order of the pair (p-1, p). Each
-// position on its own, without branches: the compiler vectorizes the loop (16 positions an
-// iteration; 4 doubles a vector with AVX2), where the run loop took one position at a time
-// with a branch per test.
+// Operands in the order of the pair (p-1, p); each position on its own, without branches, so that
+// the loop vectorizes.
 RC_SIMD_CLONES void angularJoins(std::size_t b, std::size_t e, const Label* __restrict lab,
                                  const std::uint8_t* __restrict linked, const double* __restrict range,
                                  const float* __restrict azimuth, std::uint8_t num_wanted, double range_ratio,
@@ -85,11 +76,9 @@ RC_SIMD_CLONES void angularJoins(std::size_t b, std::size_t e, const Label* __re
   }
 }
 
-// Cuts ring [b, e) into runs from join[] (see Run). The runs of wanted labels are listed and
-// numbered in grid order (run ids: the union-find forest and the component counts are per run,
-// dense arrays of a few thousand entries, where per position they spread over the grid's
-// size); each run is a root of its own. Every position of an unwanted label gets the id
-// `none`. Returns the new number of listed runs.
+// The runs of wanted labels are listed and numbered in grid order: the union-find forest and the
+// component counts are per run, dense arrays of a few thousand entries rather than grid-sized.
+// Each run is its own root; positions of unwanted labels get the id `none`.
 RC_SIMD_CLONES std::size_t cutRing(std::uint32_t b, std::uint32_t e, const Label* __restrict lab,
                                               const std::uint8_t* __restrict join, const bool* __restrict want,
                                               std::uint32_t none, std::uint32_t* __restrict parent,
@@ -106,8 +95,7 @@ RC_SIMD_CLONES std::size_t cutRing(std::uint32_t b, std::uint32_t e, const Label
     comp[k] = 0;
     return wanted ? id : none;
   };
-  // (a loop per run: with one loop over positions the compiler prepared the next run's
-  // entries at every position)
+  // (a loop per run, so that the next run's entries are not prepared at every position)
   std::uint32_t p = b;
   do
   {
@@ -120,11 +108,9 @@ RC_SIMD_CLONES std::size_t cutRing(std::uint32_t b, std::uint32_t e, const Label
   return num_runs;
 }
 
-// Vertical neighbours of ring n-1 (its runs [k0, k1)) in ring n [b, e): the nearest sample in
-// azimuth, or one beside it, within Eq 19. Run by run: a position of an unwanted label has no
-// run and is never visited, and a run's id, end and label are known without a look-up per
-// position. Neighbouring runs meet many times over: the last pair of runs united is
-// remembered, and the same pair again needs no find(). (none: no run has that id.)
+// Vertical neighbours of ring n-1 (runs [k0, k1)) in ring n [b, e): the nearest sample in azimuth,
+// or one beside it, within Eq 19. Run by run, so unwanted positions are never visited and a run's
+// id, end and label need no look-up; the last pair united is remembered (`none`: no run's id).
 RC_SIMD_CLONES void verticalUnions(const VerticalRing& V, std::uint32_t k0, std::uint32_t k1,
                                               std::uint32_t none)
 {
@@ -141,11 +127,9 @@ RC_SIMD_CLONES void verticalUnions(const VerticalRing& V, std::uint32_t k0, std:
       const auto uu = static_cast<std::uint32_t>(V.up[p]);
       const double ra = V.range[p];
       const std::uint32_t c1 = uu > V.b ? uu - 1 : V.e - 1, c2 = uu + 1 < V.e ? uu + 1 : V.b;
-      // Most positions that find no candidate fail on the range for all three (the ground,
-      // ring to ring): the three range tests first, without branches, and the label and
-      // azimuth tests in order only where one passes.
-      // (Eq 20 for the three in one vector, lane by lane the operations of inRange: fabs as a
-      // cleared sign bit, std::max(t, min) as t < min ? min : t.)
+      // Most positions without a candidate fail on range for all three (the ground, ring to ring):
+      // the three Eq 20 tests first, branch-free in one vector (lane by lane inRange's operations:
+      // fabs as a cleared sign bit, std::max as t < min ? min : t), the others only if one passes.
       const D4 rb = D4{V.range[uu], V.range[c1], V.range[c2], V.range[c2]}, ra4 = D4{ra, ra, ra, ra};
       const D4 t = half_ratio * (ra4 + rb);
       const D4 tol = t < min4 ? min4 : t;

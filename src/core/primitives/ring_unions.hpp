@@ -1,6 +1,5 @@
-// The union-find steps of the primitive extraction over the scan grid: each ring cut into runs
-// of neighbours that join (Eq 19-20, same wanted label), and the runs of neighbouring rings
-// united.
+// The union-find steps of the primitive extraction over the scan grid: each ring cut into runs of
+// neighbours that join (Eq 19-20, same wanted label), and the runs of neighbouring rings united.
 #pragma once
 
 #include "primitives/primitive_extractor.hpp"
