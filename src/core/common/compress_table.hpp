@@ -43,5 +43,4 @@ constexpr PairTable makePairTable()
 }
 inline constexpr PairTable kPairs = makePairTable();
 
-
 }  // namespace ring_curvature
