@@ -4,6 +4,7 @@ set(RC_CORE_SOURCES
   src/core/grid/cloud_view_checks.cpp
   src/core/grid/input_pass.cpp
   src/core/grid/organized_placement.cpp
+  src/core/grid/organized_avx2.cpp
   src/core/grid/ring_sort.cpp
   src/core/grid/ring_order.cpp
   src/core/grid/ring_fold.cpp

@@ -103,6 +103,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
 {
   const std::size_t n = view.size();
   grid.num_input = n;
+  placed_ = false;
   // Every entry of these is written below (no fill first: one pass over the frame instead of two).
   grid.state.resize(n);
   grid.grid_pos.resize(n);
@@ -140,6 +141,14 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   }
   else if (fast && view.organized())
   {
+    std::uint32_t largest = 0;
+    if (readOrganized(view, params, grid, largest))
+    {
+      if (largest >= static_cast<std::uint32_t>(params.max_rings)) return firstRing16Error();
+      placed_ = true;
+      grid.num_rings = static_cast<int>(view.height);
+      return Status::success();
+    }
     st = readOrganizedRows(view, params, grid);
     if (!st) return st;
   }

@@ -114,14 +114,19 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   st = readPoints(view, params, grid);
   if (!st)
   {
-    // (the input pass sized the per-point arrays before it met the bad ring)
+    // (the input pass sized the per-point arrays, and readOrganized the grid's, before it met
+    // the bad ring)
     grid.state.clear();
     grid.grid_pos.clear();
+    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
+    grid.ring_begin.assign(1, 0);
     return st;
   }
   if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(view, params, grid);
   if (view.organized())
-    placeOrganized(view, grid);
+  {
+    if (!placed_) placeOrganized(view, grid);
+  }
   else
     sortRings(grid, params.duplicate_azimuth_fraction > 0.0f);
   measureResolution(params, grid);
@@ -168,7 +173,11 @@ void ScanGridBuilder::gatherGrid(const PointCloudView& view, ScanGrid& grid)
   const std::uint32_t* const index = grid.index.data();
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  if (fast)
+  if (placed_)
+  {
+    // readOrganized wrote x, y, z, range, the grid positions and each ring's sum already
+  }
+  else if (fast)
   {
     gatherXyz(m, index, px_.data(), py_.data(), pz_.data(), prange_.data(), gx, gy, gz, gr);
   }
@@ -201,11 +210,14 @@ void ScanGridBuilder::gatherGrid(const PointCloudView& view, ScanGrid& grid)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     double s = 0;
-    for (std::uint32_t p = b; p < e; ++p)
-    {
-      grid.grid_pos[index[p]] = static_cast<std::int32_t>(p);
-      s += gz[p] / gr[p];
-    }
+    if (placed_)
+      s = ring_sum_[static_cast<std::size_t>(n)];  // (and the grid positions set)
+    else
+      for (std::uint32_t p = b; p < e; ++p)
+      {
+        grid.grid_pos[index[p]] = static_cast<std::int32_t>(p);
+        s += gz[p] / gr[p];
+      }
     const double sine = e > b ? std::clamp(s / (e - b), -1.0, 1.0) : 0.0;
     grid.ring_elevation[static_cast<std::size_t>(n)] = static_cast<float>(std::asin(sine));
     grid.ring_cos[static_cast<std::size_t>(n)] = static_cast<float>(std::sqrt(1.0 - sine * sine));

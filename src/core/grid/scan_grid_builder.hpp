@@ -67,6 +67,9 @@ private:
   /// Bucket sort by azimuth, for any order.
   void bucketSort(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k);
   void placeOrganized(const PointCloudView& view, ScanGrid& grid);  // organized_placement.cpp
+  /// The input pass and the placement in one, for float32 x, y, z in a row and no ring or a uint16
+  /// one, on AVX2 CPUs (else false); `largest` takes the largest ring field.
+  bool readOrganized(const PointCloudView& view, const Params& params, ScanGrid& grid, std::uint32_t& largest);
   void measureResolution(const Params& params, ScanGrid& grid);  // resolution.cpp
   void gatherGrid(const PointCloudView& view, ScanGrid& grid);
   void removeDuplicates(const Params& params, ScanGrid& grid);
@@ -94,6 +97,8 @@ private:
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
+  std::vector<double> ring_sum_;  // each ring's sum of z / range (readOrganized)
+  bool placed_ = false;           // readOrganized placed the frame on the grid
   SpacingMedian spacing_median_;
 };
 
