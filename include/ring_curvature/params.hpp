@@ -68,6 +68,21 @@ struct Params
   bool use_curvature = true;            ///< ablation (paper Table 2, Ours-NoCurv): false ignores kappa
   bool use_smoothness = true;           ///< ablation (paper Table 2, Ours-NoSmooth): false ignores S
 
+  // --- inter-ring evidence (the paper's section 6.2; all off = the ring-wise labels) -----------
+  bool inter_ring_roughness = true;     ///< Rough decided over a 3-ring x 5-sample window
+  float rough_smoothness_min = 6e-5f;   ///< [m^2] S above this (x (range / rough_range_scale)^2) is rough along the ring
+  float rough_vertical_min = 0.015f;    ///< [m] cross-ring range residual above this (x range / scale) is rough across rings
+  float rough_range_scale = 10.0f;      ///< [m] both bounds grow with range beyond this (0: never)
+  float rough_window_fraction = 0.5f;   ///< Rough where at least this share of the window is rough both ways
+  bool suppress_foliage_features = false;  ///< no Edge/Corner inside rough surroundings
+  float foliage_feature_fraction = 0.3f;  ///< an Edge/Corner with this share of its window rough becomes Rough
+  bool occlusion_aware_jumps = false;   ///< only the near side of a depth jump is a Corner
+  float occlusion_min_jump = 0.10f;     ///< [m] smallest depth jump (and jump_min_ratio * range)
+  bool thin_objects = true;             ///< narrow runs in front of both neighbours, stacked over rings: Edge
+  float thin_max_width = 0.7f;          ///< [m] widest such run (poles, trunks, signs)
+  int thin_min_stack = 4;               ///< of the 4 samples above and below (2 rings each way), how many must be such runs
+  float thin_max_range_step = 0.2f;     ///< [m] range difference to a stacked sample
+
   // --- primitives (section 4.3) ----------------------------------------------------------
   float proximity_azimuth_factor = 1.5f;  ///< Eq 19: d theta_tol = factor * azimuth resolution
   float proximity_range_ratio = 0.02f;    ///< Eq 20: d rho_tol = max(ratio * mean rho, min)

@@ -72,6 +72,19 @@ Status forEachParam(Params& p, ParamVisitor& v)
       v.visit("noise_floor_k", p.noise_floor_k) && v.visit("edge_min_angle_deg", p.edge_min_angle_deg) &&
       v.visit("jump_min_ratio", p.jump_min_ratio) && v.visit("non_max_suppression", p.non_max_suppression) &&
       v.visit("use_curvature", p.use_curvature) && v.visit("use_smoothness", p.use_smoothness) &&
+      v.visit("inter_ring_roughness", p.inter_ring_roughness) &&
+      v.visit("rough_smoothness_min", p.rough_smoothness_min) &&
+      v.visit("rough_vertical_min", p.rough_vertical_min) &&
+      v.visit("rough_range_scale", p.rough_range_scale) &&
+      v.visit("rough_window_fraction", p.rough_window_fraction) &&
+      v.visit("suppress_foliage_features", p.suppress_foliage_features) &&
+      v.visit("foliage_feature_fraction", p.foliage_feature_fraction) &&
+      v.visit("occlusion_aware_jumps", p.occlusion_aware_jumps) &&
+      v.visit("occlusion_min_jump", p.occlusion_min_jump) &&
+      v.visit("thin_objects", p.thin_objects) &&
+      v.visit("thin_max_width", p.thin_max_width) &&
+      v.visit("thin_min_stack", p.thin_min_stack) &&
+      v.visit("thin_max_range_step", p.thin_max_range_step) &&
       v.visit("proximity_azimuth_factor", p.proximity_azimuth_factor) &&
       v.visit("proximity_range_ratio", p.proximity_range_ratio) &&
       v.visit("proximity_range_min", p.proximity_range_min) &&

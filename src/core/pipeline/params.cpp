@@ -45,6 +45,15 @@ Status Params::validate() const
   RC_CHECK(noise_floor_k, 0.0f, 100.0f, "noise sigmas");
   RC_CHECK(edge_min_angle_deg, 0.0f, 180.0f, "degrees");
   RC_CHECK(jump_min_ratio, 0.0f, 10.0f, "depth jump / range");
+  RC_CHECK(rough_smoothness_min, 0.0f, 100.0f, "m^2");
+  RC_CHECK(rough_vertical_min, 0.0f, 100.0f, "metres");
+  RC_CHECK(rough_range_scale, 0.0f, 1000.0f, "metres, 0 = no range scaling");
+  RC_CHECK(rough_window_fraction, 0.0f, 1.0f, "share of the window");
+  RC_CHECK(foliage_feature_fraction, 0.0f, 1.0f, "share of the window");
+  RC_CHECK(occlusion_min_jump, 0.0f, 100.0f, "metres");
+  RC_CHECK(thin_max_width, 0.0f, 100.0f, "metres");
+  RC_CHECK(thin_min_stack, 1, 4, "samples of the 4 above and below");
+  RC_CHECK(thin_max_range_step, 0.0f, 100.0f, "metres");
   RC_CHECK(proximity_azimuth_factor, 0.0f, 100.0f, "azimuth resolutions");
   RC_CHECK(proximity_range_ratio, 0.0f, 10.0f, "fraction of range");
   RC_CHECK(proximity_range_min, 0.0f, 100.0f, "metres");

@@ -67,6 +67,7 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
   s.classifier.computeThresholds(s.grid, s.features, params_, s.thresholds);
   out.times.thresholds = msSince(t);
   s.classifier.classify(s.grid, s.features, params_, s.thresholds, s.labels);
+  s.inter_ring.refine(s.grid, s.features, params_, s.labels);
   out.times.classification = msSince(t);
   s.primitive_extractor.extract(s.grid, s.labels, params_, out.primitives);
   out.times.primitives = msSince(t);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "classification/classifier.hpp"
+#include "classification/inter_ring.hpp"
 #include "grid/scan_grid_builder.hpp"
 #include "features/feature_computer.hpp"
 #include "primitives/primitive_extractor.hpp"
@@ -18,6 +19,7 @@ struct Pipeline::Stages
   ScanGridBuilder grid_builder;
   FeatureComputer feature_computer;
   Classifier classifier;
+  InterRingRefiner inter_ring;
   PrimitiveExtractor primitive_extractor;
   ScanGrid grid;
   Features features;

@@ -1,0 +1,241 @@
+// Inter-ring evidence on the ring-wise labels (see inter_ring.hpp).
+#include "classification/inter_ring.hpp"
+
+#include "common/angles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kFar = std::numeric_limits<double>::infinity();
+
+// The ring [b, e) of a position, and whether its curve wraps across the seam.
+struct Ring
+{
+  std::uint32_t b, e;
+  bool closed;
+};
+inline Ring ringOf(const ScanGrid& g, std::int32_t n)
+{
+  const auto r = static_cast<std::size_t>(n);
+  return {g.ring_begin[r], g.ring_begin[r + 1], g.ring_closed[r] != 0};
+}
+
+// Ring neighbour j (+-1, +-2) of p, or -1: every link on the way must hold (linked[q]: q joins
+// its predecessor; a closed ring's first sample joins its last across the seam).
+inline std::int32_t along(const ScanGrid& g, const Ring& R, std::uint32_t p, int j)
+{
+  std::uint32_t q = p;
+  for (int s = 0; s < std::abs(j); ++s)
+  {
+    if (j > 0)
+    {
+      const std::uint32_t next = q + 1 < R.e ? q + 1 : R.b;
+      if ((q + 1 == R.e && !R.closed) || g.linked[next] == 0) return -1;
+      q = next;
+    }
+    else
+    {
+      if (g.linked[q] == 0) return -1;  // (an open ring's first sample joins nothing)
+      q = q > R.b ? q - 1 : R.e - 1;
+    }
+  }
+  return q == p ? -1 : static_cast<std::int32_t>(q);
+}
+
+// A depth jump between ranges r1 and r2.
+inline bool isJump(double r1, double r2, const Params& P)
+{
+  return std::fabs(r1 - r2) > std::max(static_cast<double>(P.occlusion_min_jump),
+                                       static_cast<double>(P.jump_min_ratio) * std::min(r1, r2));
+}
+}  // namespace
+
+bool InterRingRefiner::enabled(const Params& P)
+{
+  // Algorithm 1 (quartile mode) stays as the paper wrote it
+  return P.classifier_mode == ClassifierMode::Robust &&
+         (P.inter_ring_roughness || P.suppress_foliage_features || P.occlusion_aware_jumps || P.thin_objects);
+}
+
+void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params& P, std::vector<Label>& labels)
+{
+  const std::size_t m = g.size();
+  if (m == 0 || !enabled(P)) return;
+  ring_of_.resize(m);
+  for (int n = 0; n < g.num_rings; ++n)
+    std::fill(ring_of_.begin() + g.ring_begin[static_cast<std::size_t>(n)],
+              ring_of_.begin() + g.ring_begin[static_cast<std::size_t>(n) + 1], n);
+  verticalNeighbours(g);
+  const bool share_needed = P.inter_ring_roughness || P.suppress_foliage_features;
+  if (share_needed) roughness(g, f, P);
+  before_.assign(labels.begin(), labels.end());
+  const double* const rho = g.range.data();
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    const Label l0 = before_[p];
+    if (l0 == Label::None) continue;
+    Label l = l0;
+    const float share = share_needed ? roughShare(g, p) : 0.0f;
+    if (P.inter_ring_roughness)
+    {
+      if (l0 == Label::Rough) l = Label::Plane;  // the window decides Rough
+      if (share >= P.rough_window_fraction) l = Label::Rough;
+    }
+    if (P.suppress_foliage_features && (l == Label::Edge || l == Label::Corner) &&
+        share >= P.foliage_feature_fraction)
+      l = Label::Rough;
+    if (P.occlusion_aware_jumps && l == Label::Corner)
+    {
+      // the far side of a jump: a ring neighbour is nearer by a jump (the occluder)
+      const Ring R = ringOf(g, ring_of_[p]);
+      bool shadow = false;
+      for (const int j : {-2, -1, 1, 2})
+      {
+        const std::int32_t q = along(g, R, p, j);
+        shadow = shadow || (q >= 0 && rho[q] < rho[p] && isJump(rho[q], rho[p], P));
+      }
+      if (shadow) l = Label::Plane;
+    }
+    labels[p] = l;
+  }
+  if (!P.thin_objects) return;
+  thinRuns(g, P);
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    // (a Corner stays: the near side of the jump that bounds the run)
+    if (before_[p] == Label::None || thin_[p] == 0 || labels[p] == Label::Corner) continue;
+    const std::int32_t u = up_[p], d = down_[p];
+    int stacked = 0;
+    for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
+                                 d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
+      stacked += q >= 0 && thin_[static_cast<std::size_t>(q)] != 0 &&
+                         std::fabs(rho[q] - rho[p]) < static_cast<double>(P.thin_max_range_step)
+                     ? 1
+                     : 0;
+    if (stacked >= P.thin_min_stack) labels[p] = Label::Edge;
+  }
+}
+
+void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
+{
+  const std::size_t m = g.size();
+  up_.assign(m, -1);
+  down_.assign(m, -1);
+  if (g.up.size() != m) return;
+  if (g.organized)
+  {
+    // a column is one firing: the same column one row up and down (beams may have azimuth offsets)
+    const std::size_t width = g.num_input / static_cast<std::size_t>(std::max(g.num_rings, 1));
+    for (std::uint32_t p = 0; p < m; ++p)
+    {
+      up_[p] = g.up[p];
+      const std::uint32_t i = g.index[p];
+      if (ring_of_[p] > 0) down_[p] = g.grid_pos[i - width];
+    }
+    return;
+  }
+  const float tol = 1.5f * g.azimuth_resolution;
+  const float* const az = g.azimuth.data();
+  for (std::uint32_t p = 0; p < m; ++p)
+    if (g.up[p] >= 0 && circularDistance(az[p] - az[g.up[p]]) <= tol) up_[p] = g.up[p];
+  // the nearest sample on the ring below: both rings in azimuth order, walked together
+  for (int n = 1; n < g.num_rings; ++n)
+  {
+    const Ring R = ringOf(g, n), B = ringOf(g, n - 1);
+    if (B.e - B.b < 1) continue;
+    std::uint32_t q = B.b;
+    for (std::uint32_t p = R.b; p < R.e; ++p)
+    {
+      while (q + 1 < B.e && az[q + 1] <= az[p]) ++q;
+      std::uint32_t best = q;
+      for (const std::uint32_t c : {q + 1 < B.e ? q + 1 : B.b, q > B.b ? q - 1 : B.e - 1})
+        if (circularDistance(az[c] - az[p]) < circularDistance(az[best] - az[p])) best = c;
+      if (circularDistance(az[best] - az[p]) <= tol) down_[p] = static_cast<std::int32_t>(best);
+    }
+  }
+}
+
+void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Params& P)
+{
+  const std::size_t m = g.size();
+  const double* const rho = g.range.data();
+  // the range less the mean of the ranges above and below: the same all along a ring on a plane,
+  // a horizontal crease or a beam's range bias, scattered on foliage
+  across_.resize(m);
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    const std::int32_t u = up_[p], d = down_[p];
+    across_[p] = u >= 0 && d >= 0 ? static_cast<float>(rho[p] - 0.5 * (rho[u] + rho[d])) : kNaN;
+  }
+  rough_.resize(m);
+  for (std::int32_t n = 0; n < g.num_rings; ++n)
+  {
+    const Ring R = ringOf(g, n);
+    for (std::uint32_t p = R.b; p < R.e; ++p)
+    {
+      const std::int32_t a = along(g, R, p, -1), c = along(g, R, p, 1);
+      const float v = a >= 0 && c >= 0 ? std::fabs(across_[p] - 0.5f * (across_[a] + across_[c])) : kNaN;
+      const float sc = P.rough_range_scale > 0 ? std::max(1.0f, static_cast<float>(rho[p]) / P.rough_range_scale) : 1.0f;
+      rough_[p] = (f.smoothness[p] > P.rough_smoothness_min * sc * sc) & (v > P.rough_vertical_min * sc);
+    }
+  }
+}
+
+float InterRingRefiner::roughShare(const ScanGrid& g, std::uint32_t p) const
+{
+  int total = 0, rough = 0;
+  for (const std::int32_t r : {static_cast<std::int32_t>(p), up_[p], down_[p]})
+  {
+    if (r < 0) continue;
+    const Ring R = ringOf(g, ring_of_[static_cast<std::size_t>(r)]);
+    for (const int j : {-2, -1, 0, 1, 2})
+    {
+      const std::int32_t q = j == 0 ? r : along(g, R, static_cast<std::uint32_t>(r), j);
+      if (q < 0) continue;
+      ++total;
+      rough += rough_[static_cast<std::size_t>(q)];
+    }
+  }
+  return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
+}
+
+void InterRingRefiner::thinRuns(const ScanGrid& g, const Params& P)
+{
+  const std::size_t m = g.size();
+  const double* const rho = g.range.data();
+  thin_.assign(m, 0);
+  for (std::int32_t n = 0; n < g.num_rings; ++n)
+  {
+    const Ring R = ringOf(g, n);
+    // runs split at gaps and depth jumps; a run is thin when it is narrow and both samples
+    // outside it are farther than all of it (no return counts as farther)
+    // A closed ring's first and last runs meet at the seam: bounded there only by a jump
+    // (a run that continues across the seam is never thin, e.g. a room's wall all around).
+    const bool seam = R.closed && R.e > R.b && g.linked[R.b] != 0;
+    const bool seam_jump = seam && isJump(rho[R.b], rho[R.e - 1], P);
+    std::uint32_t s = R.b;
+    while (s < R.e)
+    {
+      std::uint32_t t = s + 1;
+      double rmax = rho[s];
+      while (t < R.e && g.linked[t] != 0 && !isJump(rho[t], rho[t - 1], P)) rmax = std::max(rmax, rho[t++]);
+      const double across_seam_lo = seam_jump ? rho[R.e - 1] : -kFar, across_seam_hi = seam_jump ? rho[R.b] : -kFar;
+      const double lo = s > R.b ? (g.linked[s] != 0 ? rho[s - 1] : kFar) : (seam ? across_seam_lo : kFar);
+      const double ro = t < R.e ? (g.linked[t] != 0 ? rho[t] : kFar) : (seam ? across_seam_hi : kFar);
+      const double dx = g.x[t - 1] - g.x[s], dy = g.y[t - 1] - g.y[s], dz = g.z[t - 1] - g.z[s];
+      const bool narrow = dx * dx + dy * dy + dz * dz <= static_cast<double>(P.thin_max_width) * P.thin_max_width;
+      if (narrow && lo > rmax && ro > rmax) std::fill(thin_.begin() + s, thin_.begin() + t, 1);
+      s = t;
+    }
+  }
+}
+
+}  // namespace ring_curvature
