@@ -70,8 +70,9 @@ struct Params
 
   // --- inter-ring evidence (the paper's section 6.2; all off = the ring-wise labels) -----------
   bool inter_ring_roughness = true;     ///< Rough decided over a 3-ring x 5-sample window
-  float rough_smoothness_min = 6e-5f;   ///< [m^2] S above this (x (range / rough_range_scale)^2) is rough along the ring
-  float rough_vertical_min = 0.015f;    ///< [m] cross-ring range residual above this (x range / scale) is rough across rings
+  float rough_smoothness_min = 6e-5f;   ///< [m^2] least bound on S (x (range / rough_range_scale)^2) called rough along the ring
+  float rough_vertical_min = 0.015f;    ///< [m] least bound on the cross-ring range residual (x range / scale) called rough
+  float rough_noise_k = 3.0f;           ///< both bounds at least this multiple of the frame's lower-quartile value (S: squared)
   float rough_range_scale = 10.0f;      ///< [m] both bounds grow with range beyond this (0: never)
   float rough_window_fraction = 0.5f;   ///< Rough where at least this share of the window is rough both ways
   bool suppress_foliage_features = false;  ///< no Edge/Corner inside rough surroundings

@@ -26,6 +26,7 @@ RingCurvatureConfig toConfig(const Params& p)
   c.inter_ring_roughness = p.inter_ring_roughness;
   c.rough_smoothness_min = p.rough_smoothness_min;
   c.rough_vertical_min = p.rough_vertical_min;
+  c.rough_noise_k = p.rough_noise_k;
   c.rough_range_scale = p.rough_range_scale;
   c.rough_window_fraction = p.rough_window_fraction;
   c.suppress_foliage_features = p.suppress_foliage_features;
@@ -70,6 +71,7 @@ Params fromConfig(const RingCurvatureConfig& c, const Params& base)
   p.inter_ring_roughness = c.inter_ring_roughness;
   p.rough_smoothness_min = static_cast<float>(c.rough_smoothness_min);
   p.rough_vertical_min = static_cast<float>(c.rough_vertical_min);
+  p.rough_noise_k = static_cast<float>(c.rough_noise_k);
   p.rough_range_scale = static_cast<float>(c.rough_range_scale);
   p.rough_window_fraction = static_cast<float>(c.rough_window_fraction);
   p.suppress_foliage_features = c.suppress_foliage_features;

@@ -75,6 +75,7 @@ Status forEachParam(Params& p, ParamVisitor& v)
       v.visit("inter_ring_roughness", p.inter_ring_roughness) &&
       v.visit("rough_smoothness_min", p.rough_smoothness_min) &&
       v.visit("rough_vertical_min", p.rough_vertical_min) &&
+      v.visit("rough_noise_k", p.rough_noise_k) &&
       v.visit("rough_range_scale", p.rough_range_scale) &&
       v.visit("rough_window_fraction", p.rough_window_fraction) &&
       v.visit("suppress_foliage_features", p.suppress_foliage_features) &&

@@ -14,7 +14,10 @@ PAPER = {"curvature_mode": "paper", "smoothness_mode": "variance", "discontinuit
 
 # Ablations of Table 2: the default configuration with one feature switched off in the core's
 # classifier (Params::use_smoothness / use_curvature), everything else unchanged.
-ABLATIONS = {"Ours-NoSmooth": {"use_smoothness": False}, "Ours-NoCurv": {"use_curvature": False}}
+ABLATIONS = {"Ours-NoSmooth": {"use_smoothness": False}, "Ours-NoCurv": {"use_curvature": False},
+             # the ring-wise labels alone: every inter-ring step (Params, section 6.2) off
+             "Ours-RingOnly": {"inter_ring_roughness": False, "suppress_foliage_features": False,
+                               "occlusion_aware_jumps": False, "thin_objects": False}}
 BASELINES = {"PCA-Curv": "pca", "EuclideanClust": "euclid"}
 
 

@@ -1,6 +1,7 @@
 // Inter-ring evidence on the ring-wise labels (see inter_ring.hpp).
 #include "classification/inter_ring.hpp"
 
+#include "classification/rank_select.hpp"
 #include "common/angles.hpp"
 
 #include <algorithm>
@@ -175,7 +176,9 @@ void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Par
     const std::int32_t u = up_[p], d = down_[p];
     across_[p] = u >= 0 && d >= 0 ? static_cast<float>(rho[p] - 0.5 * (rho[u] + rho[d])) : kNaN;
   }
-  rough_.resize(m);
+  // both measures relative to their growth with range (the sample spacing grows with it)
+  vert_.resize(m);
+  ring_s_.resize(m);
   for (std::int32_t n = 0; n < g.num_rings; ++n)
   {
     const Ring R = ringOf(g, n);
@@ -184,9 +187,25 @@ void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Par
       const std::int32_t a = along(g, R, p, -1), c = along(g, R, p, 1);
       const float v = a >= 0 && c >= 0 ? std::fabs(across_[p] - 0.5f * (across_[a] + across_[c])) : kNaN;
       const float sc = P.rough_range_scale > 0 ? std::max(1.0f, static_cast<float>(rho[p]) / P.rough_range_scale) : 1.0f;
-      rough_[p] = (f.smoothness[p] > P.rough_smoothness_min * sc * sc) & (v > P.rough_vertical_min * sc);
+      vert_[p] = v / sc;
+      ring_s_[p] = f.smoothness[p] / (sc * sc);
     }
   }
+  // The bounds follow the frame's own noise: a multiple of the lower quartile of each measure
+  // (most samples are planes, and foliage rarely reaches the lower quartile), never below the
+  // fixed minimum that a quiet sensor needs.
+  const float v_thr = std::max(P.rough_vertical_min, P.rough_noise_k * lowerQuartile(vert_));
+  const float s_thr = std::max(P.rough_smoothness_min, P.rough_noise_k * P.rough_noise_k * lowerQuartile(ring_s_));
+  rough_.resize(m);
+  for (std::uint32_t p = 0; p < m; ++p) rough_[p] = (ring_s_[p] > s_thr) & (vert_[p] > v_thr);
+}
+
+float InterRingRefiner::lowerQuartile(const std::vector<float>& values)
+{
+  scratch_.clear();
+  for (const float v : values)
+    if (std::isfinite(v)) scratch_.push_back(v);
+  return scratch_.empty() ? 0.0f : selectNth(scratch_.data(), scratch_.size(), scratch_.size() / 4);
 }
 
 float InterRingRefiner::roughShare(const ScanGrid& g, std::uint32_t p) const

@@ -32,6 +32,8 @@ private:
   void verticalNeighbours(const ScanGrid& grid);
   /// Per position: rough both along the ring (S) and across rings (the cross-ring residual).
   void roughness(const ScanGrid& grid, const Features& f, const Params& params);
+  /// The lower quartile of the finite values (0 when none).
+  float lowerQuartile(const std::vector<float>& values);
   /// Share of rough samples in the window of p (its ring and the rings above and below, +-2).
   float roughShare(const ScanGrid& grid, std::uint32_t p) const;
   /// Per position: in a thin run (thin_).
@@ -40,6 +42,8 @@ private:
   std::vector<std::int32_t> up_, down_;  // -1: none
   std::vector<std::int32_t> ring_of_;   // ring of each grid position
   std::vector<float> across_;            // rho - mean of the ranges above and below (NaN: none)
+  std::vector<float> vert_, ring_s_;     // the cross-ring and ring-wise roughness, range-scaled
+  std::vector<float> scratch_;
   std::vector<std::uint8_t> rough_, thin_;
   std::vector<Label> before_;            // the ring-wise labels
 };

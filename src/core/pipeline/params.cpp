@@ -47,6 +47,7 @@ Status Params::validate() const
   RC_CHECK(jump_min_ratio, 0.0f, 10.0f, "depth jump / range");
   RC_CHECK(rough_smoothness_min, 0.0f, 100.0f, "m^2");
   RC_CHECK(rough_vertical_min, 0.0f, 100.0f, "metres");
+  RC_CHECK(rough_noise_k, 0.0f, 100.0f, "multiples of the lower quartile");
   RC_CHECK(rough_range_scale, 0.0f, 1000.0f, "metres, 0 = no range scaling");
   RC_CHECK(rough_window_fraction, 0.0f, 1.0f, "share of the window");
   RC_CHECK(foliage_feature_fraction, 0.0f, 1.0f, "share of the window");
