@@ -29,28 +29,6 @@ inline Ring ringOf(const ScanGrid& g, std::int32_t n)
   return {g.ring_begin[r], g.ring_begin[r + 1], g.ring_closed[r] != 0};
 }
 
-// Ring neighbour j (+-1, +-2) of p, or -1: every link on the way must hold (linked[q]: q joins
-// its predecessor; a closed ring's first sample joins its last across the seam).
-inline std::int32_t along(const ScanGrid& g, const Ring& R, std::uint32_t p, int j)
-{
-  std::uint32_t q = p;
-  for (int s = 0; s < std::abs(j); ++s)
-  {
-    if (j > 0)
-    {
-      const std::uint32_t next = q + 1 < R.e ? q + 1 : R.b;
-      if ((q + 1 == R.e && !R.closed) || g.linked[next] == 0) return -1;
-      q = next;
-    }
-    else
-    {
-      if (g.linked[q] == 0) return -1;  // (an open ring's first sample joins nothing)
-      q = q > R.b ? q - 1 : R.e - 1;
-    }
-  }
-  return q == p ? -1 : static_cast<std::int32_t>(q);
-}
-
 // A depth jump between ranges r1 and r2.
 inline bool isJump(double r1, double r2, const Params& P)
 {
@@ -70,10 +48,7 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
 {
   const std::size_t m = g.size();
   if (m == 0 || !enabled(P)) return;
-  ring_of_.resize(m);
-  for (int n = 0; n < g.num_rings; ++n)
-    std::fill(ring_of_.begin() + g.ring_begin[static_cast<std::size_t>(n)],
-              ring_of_.begin() + g.ring_begin[static_cast<std::size_t>(n) + 1], n);
+  ringLinks(g);
   verticalNeighbours(g);
   const bool share_needed = P.inter_ring_roughness || P.suppress_foliage_features;
   if (share_needed) roughness(g, f, P);
@@ -84,7 +59,7 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
     const Label l0 = before_[p];
     if (l0 == Label::None) continue;
     Label l = l0;
-    const float share = share_needed ? roughShare(g, p) : 0.0f;
+    const float share = share_needed ? roughShare(p) : 0.0f;
     if (P.inter_ring_roughness)
     {
       if (l0 == Label::Rough) l = Label::Plane;  // the window decides Rough
@@ -96,13 +71,9 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
     if (P.occlusion_aware_jumps && l == Label::Corner)
     {
       // the far side of a jump: a ring neighbour is nearer by a jump (the occluder)
-      const Ring R = ringOf(g, ring_of_[p]);
       bool shadow = false;
-      for (const int j : {-2, -1, 1, 2})
-      {
-        const std::int32_t q = along(g, R, p, j);
+      for (const std::int32_t q : {prev_[p], next_[p], twoBack(p), twoAhead(p)})
         shadow = shadow || (q >= 0 && rho[q] < rho[p] && isJump(rho[q], rho[p], P));
-      }
       if (shadow) l = Label::Plane;
     }
     labels[p] = l;
@@ -139,7 +110,7 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
     {
       up_[p] = g.up[p];
       const std::uint32_t i = g.index[p];
-      if (ring_of_[p] > 0) down_[p] = g.grid_pos[i - width];
+      if (i >= width) down_[p] = g.grid_pos[i - width];
     }
     return;
   }
@@ -147,19 +118,22 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
   const float* const az = g.azimuth.data();
   for (std::uint32_t p = 0; p < m; ++p)
     if (g.up[p] >= 0 && circularDistance(az[p] - az[g.up[p]]) <= tol) up_[p] = g.up[p];
-  // the nearest sample on the ring below: both rings in azimuth order, walked together
+  // the nearest sample on the ring below: both rings in azimuth order, walked together; q is
+  // the last sample below at or before p's azimuth, the nearest is q or the one after it
+  // (around the seam: the ring's last or first)
   for (int n = 1; n < g.num_rings; ++n)
   {
     const Ring R = ringOf(g, n), B = ringOf(g, n - 1);
-    if (B.e - B.b < 1) continue;
+    if (B.e == B.b) continue;
     std::uint32_t q = B.b;
     for (std::uint32_t p = R.b; p < R.e; ++p)
     {
-      while (q + 1 < B.e && az[q + 1] <= az[p]) ++q;
-      std::uint32_t best = q;
-      for (const std::uint32_t c : {q + 1 < B.e ? q + 1 : B.b, q > B.b ? q - 1 : B.e - 1})
-        if (circularDistance(az[c] - az[p]) < circularDistance(az[best] - az[p])) best = c;
-      if (circularDistance(az[best] - az[p]) <= tol) down_[p] = static_cast<std::int32_t>(best);
+      const float a = az[p];
+      while (q + 1 < B.e && az[q + 1] <= a) ++q;
+      const std::uint32_t lo = az[q] <= a ? q : B.e - 1, hi = q + 1 < B.e && az[q] <= a ? q + 1 : B.b;
+      const float d_lo = circularDistance(a - az[lo]), d_hi = circularDistance(az[hi] - a);
+      const std::uint32_t best = d_hi < d_lo ? hi : lo;
+      down_[p] = std::min(d_lo, d_hi) <= tol ? static_cast<std::int32_t>(best) : -1;
     }
   }
 }
@@ -184,11 +158,11 @@ void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Par
     const Ring R = ringOf(g, n);
     for (std::uint32_t p = R.b; p < R.e; ++p)
     {
-      const std::int32_t a = along(g, R, p, -1), c = along(g, R, p, 1);
+      const std::int32_t a = prev_[p], c = next_[p];
       const float v = a >= 0 && c >= 0 ? std::fabs(across_[p] - 0.5f * (across_[a] + across_[c])) : kNaN;
-      const float sc = P.rough_range_scale > 0 ? std::max(1.0f, static_cast<float>(rho[p]) / P.rough_range_scale) : 1.0f;
-      vert_[p] = v / sc;
-      ring_s_[p] = f.smoothness[p] / (sc * sc);
+      const float inv = P.rough_range_scale > 0 ? std::min(1.0f, P.rough_range_scale / static_cast<float>(rho[p])) : 1.0f;
+      vert_[p] = v * inv;
+      ring_s_[p] = f.smoothness[p] * (inv * inv);
     }
   }
   // The bounds follow the frame's own noise: a multiple of the lower quartile of each measure
@@ -198,32 +172,61 @@ void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Par
   const float s_thr = std::max(P.rough_smoothness_min, P.rough_noise_k * P.rough_noise_k * lowerQuartile(ring_s_));
   rough_.resize(m);
   for (std::uint32_t p = 0; p < m; ++p) rough_[p] = (ring_s_[p] > s_thr) & (vert_[p] > v_thr);
+  // each sample's 5-sample window along its ring: how many samples it has, how many rough
+  window_.resize(m);
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    int total = 1, rough = rough_[p];
+    for (const std::int32_t q : {prev_[p], next_[p], twoBack(p), twoAhead(p)})
+      if (q >= 0)
+      {
+        ++total;
+        rough += rough_[static_cast<std::size_t>(q)];
+      }
+    window_[p] = static_cast<std::uint8_t>(total << 4 | rough);
+  }
 }
 
 float InterRingRefiner::lowerQuartile(const std::vector<float>& values)
 {
+  // every 4th value: the quartile of a frame's 10^4-10^5 samples needs no more
   scratch_.clear();
-  for (const float v : values)
-    if (std::isfinite(v)) scratch_.push_back(v);
+  for (std::size_t i = 0; i < values.size(); i += 4)
+    if (std::isfinite(values[i])) scratch_.push_back(values[i]);
   return scratch_.empty() ? 0.0f : selectNth(scratch_.data(), scratch_.size(), scratch_.size() / 4);
 }
 
-float InterRingRefiner::roughShare(const ScanGrid& g, std::uint32_t p) const
+float InterRingRefiner::roughShare(std::uint32_t p) const
 {
   int total = 0, rough = 0;
   for (const std::int32_t r : {static_cast<std::int32_t>(p), up_[p], down_[p]})
-  {
-    if (r < 0) continue;
-    const Ring R = ringOf(g, ring_of_[static_cast<std::size_t>(r)]);
-    for (const int j : {-2, -1, 0, 1, 2})
+    if (r >= 0)
     {
-      const std::int32_t q = j == 0 ? r : along(g, R, static_cast<std::uint32_t>(r), j);
-      if (q < 0) continue;
-      ++total;
-      rough += rough_[static_cast<std::size_t>(q)];
+      const std::uint8_t w = window_[static_cast<std::size_t>(r)];
+      total += w >> 4;
+      rough += w & 15;
+    }
+  return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
+}
+
+void InterRingRefiner::ringLinks(const ScanGrid& g)
+{
+  const std::size_t m = g.size();
+  prev_.resize(m);
+  next_.resize(m);
+  for (std::int32_t n = 0; n < g.num_rings; ++n)
+  {
+    const Ring R = ringOf(g, n);
+    for (std::uint32_t p = R.b; p < R.e; ++p)
+    {
+      // linked[q]: q joins its predecessor (a closed ring's first sample its last, across the seam)
+      const std::uint32_t after = p + 1 < R.e ? p + 1 : R.b, before = p > R.b ? p - 1 : R.e - 1;
+      const bool ahead = (p + 1 < R.e || R.closed) && g.linked[after] != 0 && after != p;
+      const bool back = g.linked[p] != 0 && before != p;
+      next_[p] = ahead ? static_cast<std::int32_t>(after) : -1;
+      prev_[p] = back ? static_cast<std::int32_t>(before) : -1;
     }
   }
-  return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
 }
 
 void InterRingRefiner::thinRuns(const ScanGrid& g, const Params& P)

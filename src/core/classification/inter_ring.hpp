@@ -35,12 +35,25 @@ private:
   /// The lower quartile of the finite values (0 when none).
   float lowerQuartile(const std::vector<float>& values);
   /// Share of rough samples in the window of p (its ring and the rings above and below, +-2).
-  float roughShare(const ScanGrid& grid, std::uint32_t p) const;
+  float roughShare(std::uint32_t p) const;
+  /// Each sample's linked neighbours along its ring (prev_, next_).
+  void ringLinks(const ScanGrid& grid);
+  std::int32_t twoBack(std::uint32_t p) const
+  {
+    const std::int32_t q = prev_[p];
+    return q >= 0 && prev_[static_cast<std::size_t>(q)] != static_cast<std::int32_t>(p) ? prev_[static_cast<std::size_t>(q)] : -1;
+  }
+  std::int32_t twoAhead(std::uint32_t p) const
+  {
+    const std::int32_t q = next_[p];
+    return q >= 0 && next_[static_cast<std::size_t>(q)] != static_cast<std::int32_t>(p) ? next_[static_cast<std::size_t>(q)] : -1;
+  }
   /// Per position: in a thin run (thin_).
   void thinRuns(const ScanGrid& grid, const Params& params);
 
   std::vector<std::int32_t> up_, down_;  // -1: none
-  std::vector<std::int32_t> ring_of_;   // ring of each grid position
+  std::vector<std::int32_t> prev_, next_;  // linked neighbours along the ring, -1: none
+  std::vector<std::uint8_t> window_;     // the 5-sample window along the ring: samples << 4 | rough ones
   std::vector<float> across_;            // rho - mean of the ranges above and below (NaN: none)
   std::vector<float> vert_, ring_s_;     // the cross-ring and ring-wise roughness, range-scaled
   std::vector<float> scratch_;
