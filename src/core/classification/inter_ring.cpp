@@ -3,6 +3,7 @@
 
 #include "classification/rank_select.hpp"
 #include "common/angles.hpp"
+#include "common/simd_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,6 +35,62 @@ inline bool isJump(double r1, double r2, const Params& P)
 {
   return std::fabs(r1 - r2) > std::max(static_cast<double>(P.occlusion_min_jump),
                                        static_cast<double>(P.jump_min_ratio) * std::min(r1, r2));
+}
+
+// The range less the mean of the ranges above and below (NaN where either is missing): the same
+// all along a ring on a plane, a horizontal crease or a beam's range bias, scattered on foliage.
+// Branch-free (a missing neighbour reads the sample itself, then is masked) so that it vectorizes.
+RC_SIMD_CLONES void acrossRings(std::size_t m, const std::int32_t* __restrict up, const std::int32_t* __restrict down,
+                                const double* __restrict rho, float* __restrict out)
+{
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    const bool ok = (up[p] >= 0) & (down[p] >= 0);
+    const auto self = static_cast<std::int32_t>(p);
+    const double a = rho[p] - 0.5 * (rho[ok ? up[p] : self] + rho[ok ? down[p] : self]);
+    out[p] = ok ? static_cast<float>(a) : kNaN;
+  }
+}
+
+// The cross-ring scatter v = |a - (a_prev + a_next) / 2| and the ring-wise S, both relative to
+// their growth with range beyond `scale` (the sample spacing grows with range).
+RC_SIMD_CLONES void scaledRoughness(std::size_t m, const std::int32_t* __restrict prev,
+                                    const std::int32_t* __restrict next, const float* __restrict across,
+                                    const float* __restrict smoothness, const double* __restrict rho, float scale,
+                                    float* __restrict vert, float* __restrict ring_s)
+{
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    const bool ok = (prev[p] >= 0) & (next[p] >= 0);
+    const auto self = static_cast<std::int32_t>(p);
+    const float v = std::fabs(across[p] - 0.5f * (across[ok ? prev[p] : self] + across[ok ? next[p] : self]));
+    const float inv = scale > 0 ? std::min(1.0f, scale / static_cast<float>(rho[p])) : 1.0f;
+    vert[p] = ok ? v * inv : kNaN;
+    ring_s[p] = smoothness[p] * (inv * inv);
+  }
+}
+
+// Rough samples (both measures above their bounds), and each sample's 5-sample window along its
+// ring: how many samples it has (high nibble), how many of them rough (low nibble).
+RC_SIMD_CLONES void roughWindows(std::size_t m, const std::int32_t* __restrict prev,
+                                 const std::int32_t* __restrict next, const float* __restrict vert,
+                                 const float* __restrict ring_s, float v_thr, float s_thr,
+                                 std::uint8_t* __restrict rough, std::uint8_t* __restrict window)
+{
+  for (std::size_t p = 0; p < m; ++p) rough[p] = (ring_s[p] > s_thr) & (vert[p] > v_thr);
+  for (std::size_t p = 0; p < m; ++p)
+  {
+    const auto self = static_cast<std::int32_t>(p);
+    const std::int32_t a = prev[p], c = next[p];
+    const std::int32_t a2 = a >= 0 ? prev[a] : -1, c2 = c >= 0 ? next[c] : -1;
+    int total = 1, count = rough[p];
+    for (const std::int32_t q : {a, c, a2 != self ? a2 : -1, c2 != self ? c2 : -1})
+    {
+      total += q >= 0 ? 1 : 0;
+      count += q >= 0 ? rough[q] : 0;
+    }
+    window[p] = static_cast<std::uint8_t>(total << 4 | count);
+  }
 }
 }  // namespace
 
@@ -141,50 +198,21 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
 void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Params& P)
 {
   const std::size_t m = g.size();
-  const double* const rho = g.range.data();
-  // the range less the mean of the ranges above and below: the same all along a ring on a plane,
-  // a horizontal crease or a beam's range bias, scattered on foliage
   across_.resize(m);
-  for (std::uint32_t p = 0; p < m; ++p)
-  {
-    const std::int32_t u = up_[p], d = down_[p];
-    across_[p] = u >= 0 && d >= 0 ? static_cast<float>(rho[p] - 0.5 * (rho[u] + rho[d])) : kNaN;
-  }
-  // both measures relative to their growth with range (the sample spacing grows with it)
   vert_.resize(m);
   ring_s_.resize(m);
-  for (std::int32_t n = 0; n < g.num_rings; ++n)
-  {
-    const Ring R = ringOf(g, n);
-    for (std::uint32_t p = R.b; p < R.e; ++p)
-    {
-      const std::int32_t a = prev_[p], c = next_[p];
-      const float v = a >= 0 && c >= 0 ? std::fabs(across_[p] - 0.5f * (across_[a] + across_[c])) : kNaN;
-      const float inv = P.rough_range_scale > 0 ? std::min(1.0f, P.rough_range_scale / static_cast<float>(rho[p])) : 1.0f;
-      vert_[p] = v * inv;
-      ring_s_[p] = f.smoothness[p] * (inv * inv);
-    }
-  }
+  rough_.resize(m);
+  window_.resize(m);
+  acrossRings(m, up_.data(), down_.data(), g.range.data(), across_.data());
+  scaledRoughness(m, prev_.data(), next_.data(), across_.data(), f.smoothness.data(), g.range.data(),
+                  P.rough_range_scale, vert_.data(), ring_s_.data());
   // The bounds follow the frame's own noise: a multiple of the lower quartile of each measure
   // (most samples are planes, and foliage rarely reaches the lower quartile), never below the
   // fixed minimum that a quiet sensor needs.
   const float v_thr = std::max(P.rough_vertical_min, P.rough_noise_k * lowerQuartile(vert_));
   const float s_thr = std::max(P.rough_smoothness_min, P.rough_noise_k * P.rough_noise_k * lowerQuartile(ring_s_));
-  rough_.resize(m);
-  for (std::uint32_t p = 0; p < m; ++p) rough_[p] = (ring_s_[p] > s_thr) & (vert_[p] > v_thr);
-  // each sample's 5-sample window along its ring: how many samples it has, how many rough
-  window_.resize(m);
-  for (std::uint32_t p = 0; p < m; ++p)
-  {
-    int total = 1, rough = rough_[p];
-    for (const std::int32_t q : {prev_[p], next_[p], twoBack(p), twoAhead(p)})
-      if (q >= 0)
-      {
-        ++total;
-        rough += rough_[static_cast<std::size_t>(q)];
-      }
-    window_[p] = static_cast<std::uint8_t>(total << 4 | rough);
-  }
+  roughWindows(m, prev_.data(), next_.data(), vert_.data(), ring_s_.data(), v_thr, s_thr, rough_.data(),
+               window_.data());
 }
 
 float InterRingRefiner::lowerQuartile(const std::vector<float>& values)
@@ -194,19 +222,6 @@ float InterRingRefiner::lowerQuartile(const std::vector<float>& values)
   for (std::size_t i = 0; i < values.size(); i += 4)
     if (std::isfinite(values[i])) scratch_.push_back(values[i]);
   return scratch_.empty() ? 0.0f : selectNth(scratch_.data(), scratch_.size(), scratch_.size() / 4);
-}
-
-float InterRingRefiner::roughShare(std::uint32_t p) const
-{
-  int total = 0, rough = 0;
-  for (const std::int32_t r : {static_cast<std::int32_t>(p), up_[p], down_[p]})
-    if (r >= 0)
-    {
-      const std::uint8_t w = window_[static_cast<std::size_t>(r)];
-      total += w >> 4;
-      rough += w & 15;
-    }
-  return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
 }
 
 void InterRingRefiner::ringLinks(const ScanGrid& g)

@@ -35,7 +35,18 @@ private:
   /// The lower quartile of the finite values (0 when none).
   float lowerQuartile(const std::vector<float>& values);
   /// Share of rough samples in the window of p (its ring and the rings above and below, +-2).
-  float roughShare(std::uint32_t p) const;
+  float roughShare(std::uint32_t p) const
+  {
+    int total = 0, rough = 0;
+    for (const std::int32_t r : {static_cast<std::int32_t>(p), up_[p], down_[p]})
+      if (r >= 0)
+      {
+        const std::uint8_t w = window_[static_cast<std::size_t>(r)];
+        total += w >> 4;
+        rough += w & 15;
+      }
+    return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
+  }
   /// Each sample's linked neighbours along its ring (prev_, next_).
   void ringLinks(const ScanGrid& grid);
   std::int32_t twoBack(std::uint32_t p) const
