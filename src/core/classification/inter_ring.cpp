@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace ring_curvature
@@ -109,11 +108,11 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
   verticalNeighbours(g);
   const bool share_needed = P.inter_ring_roughness || P.suppress_foliage_features;
   if (share_needed) roughness(g, f, P);
-  before_.assign(labels.begin(), labels.end());
+  // in place: each sample reads and writes only its own label (no step makes a label None)
   const double* const rho = g.range.data();
   for (std::uint32_t p = 0; p < m; ++p)
   {
-    const Label l0 = before_[p];
+    const Label l0 = labels[p];
     if (l0 == Label::None) continue;
     Label l = l0;
     const float share = share_needed ? roughShare(p) : 0.0f;
@@ -140,7 +139,7 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
   for (std::uint32_t p = 0; p < m; ++p)
   {
     // (a Corner stays: the near side of the jump that bounds the run)
-    if (before_[p] == Label::None || thin_[p] == 0 || labels[p] == Label::Corner) continue;
+    if (labels[p] == Label::None || thin_[p] == 0 || labels[p] == Label::Corner) continue;
     const std::int32_t u = up_[p], d = down_[p];
     int stacked = 0;
     for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,

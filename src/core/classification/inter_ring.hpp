@@ -69,7 +69,6 @@ private:
   std::vector<float> vert_, ring_s_;     // the cross-ring and ring-wise roughness, range-scaled
   std::vector<float> scratch_;
   std::vector<std::uint8_t> rough_, thin_;
-  std::vector<Label> before_;            // the ring-wise labels
 };
 
 }  // namespace ring_curvature
