@@ -135,7 +135,8 @@ template <class F>
 void forEachRecord(const sensor_msgs::PointCloud2& in, F f)
 {
   std::size_t i = 0;
-  const std::uint32_t height = in.height, width = in.width;
+  // (a cloud without columns has no points, however many rows it declares)
+  const std::uint32_t width = in.width, height = width > 0 ? in.height : 0;
   const std::size_t point_step = in.point_step, row_step = in.row_step;
   const std::uint8_t* const data = in.data.data();
   for (std::uint32_t row = 0; row < height; ++row)
@@ -237,7 +238,8 @@ void fillLabelled(const sensor_msgs::PointCloud2& in, const FrameResult& r, std:
     const std::uint32_t last = label[i];
     std::memcpy(app + 16, &last, 4);
   };
-  const std::uint32_t height = in.height, width = in.width;
+  // (a cloud without columns has no points, however many rows it declares)
+  const std::uint32_t width = in.width, height = width > 0 ? in.height : 0;
   const std::size_t point_step = in.point_step, row_step = in.row_step;
   const std::uint8_t* const data = in.data.data();
   // Cache lines written per four points (at most, for the subset).
@@ -328,7 +330,8 @@ template <class Copy>
 void copySubset(const sensor_msgs::PointCloud2& in, const std::uint8_t* label, std::uint8_t a, std::uint8_t b,
                 bool dense, std::uint8_t* dst, std::uint8_t* const end, Copy copy)
 {
-  const std::uint32_t height = in.height, width = in.width;
+  // (a cloud without columns has no points, however many rows it declares)
+  const std::uint32_t width = in.width, height = width > 0 ? in.height : 0;
   const std::size_t point_step = in.point_step, row_step = in.row_step;
   const std::uint8_t* const data = in.data.data();
   for (std::uint32_t row = 0; row < height; ++row, label += width)
