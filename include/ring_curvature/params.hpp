@@ -81,6 +81,7 @@ struct Params
   float occlusion_min_jump = 0.10f;     ///< [m] smallest depth jump (and jump_min_ratio * range)
   bool thin_objects = true;             ///< narrow runs in front of both neighbours, stacked over rings: Edge
   float thin_max_width = 0.7f;          ///< [m] widest such run (poles, trunks, signs)
+  float thin_min_range = 2.0f;          ///< [m] nearer runs are not thin objects (clutter around the sensor)
   int thin_min_stack = 4;               ///< of the 4 samples above and below (2 rings each way), how many must be such runs
   float thin_max_range_step = 0.2f;     ///< [m] range difference to a stacked sample
 

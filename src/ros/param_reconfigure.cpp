@@ -35,6 +35,7 @@ RingCurvatureConfig toConfig(const Params& p)
   c.occlusion_min_jump = p.occlusion_min_jump;
   c.thin_objects = p.thin_objects;
   c.thin_max_width = p.thin_max_width;
+  c.thin_min_range = p.thin_min_range;
   c.thin_min_stack = p.thin_min_stack;
   c.thin_max_range_step = p.thin_max_range_step;
   c.use_curvature = p.use_curvature;
@@ -80,6 +81,7 @@ Params fromConfig(const RingCurvatureConfig& c, const Params& base)
   p.occlusion_min_jump = static_cast<float>(c.occlusion_min_jump);
   p.thin_objects = c.thin_objects;
   p.thin_max_width = static_cast<float>(c.thin_max_width);
+  p.thin_min_range = static_cast<float>(c.thin_min_range);
   p.thin_min_stack = c.thin_min_stack;
   p.thin_max_range_step = static_cast<float>(c.thin_max_range_step);
   p.use_curvature = c.use_curvature;

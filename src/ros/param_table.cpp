@@ -84,6 +84,7 @@ Status forEachParam(Params& p, ParamVisitor& v)
       v.visit("occlusion_min_jump", p.occlusion_min_jump) &&
       v.visit("thin_objects", p.thin_objects) &&
       v.visit("thin_max_width", p.thin_max_width) &&
+      v.visit("thin_min_range", p.thin_min_range) &&
       v.visit("thin_min_stack", p.thin_min_stack) &&
       v.visit("thin_max_range_step", p.thin_max_range_step) &&
       v.visit("proximity_azimuth_factor", p.proximity_azimuth_factor) &&

@@ -268,7 +268,8 @@ void InterRingRefiner::thinRuns(const ScanGrid& g, const Params& P)
       const double ro = t < R.e ? (g.linked[t] != 0 ? rho[t] : kFar) : (seam ? across_seam_hi : kFar);
       const double dx = g.x[t - 1] - g.x[s], dy = g.y[t - 1] - g.y[s], dz = g.z[t - 1] - g.z[s];
       const bool narrow = dx * dx + dy * dy + dz * dz <= static_cast<double>(P.thin_max_width) * P.thin_max_width;
-      if (narrow && lo > rmax && ro > rmax) std::fill(thin_.begin() + s, thin_.begin() + t, 1);
+      const bool far_enough = rho[s] >= static_cast<double>(P.thin_min_range);  // (clutter at the sensor is not a pole)
+      if (narrow && far_enough && lo > rmax && ro > rmax) std::fill(thin_.begin() + s, thin_.begin() + t, 1);
       s = t;
     }
   }

@@ -53,6 +53,7 @@ Status Params::validate() const
   RC_CHECK(foliage_feature_fraction, 0.0f, 1.0f, "share of the window");
   RC_CHECK(occlusion_min_jump, 0.0f, 100.0f, "metres");
   RC_CHECK(thin_max_width, 0.0f, 100.0f, "metres");
+  RC_CHECK(thin_min_range, 0.0f, 1000.0f, "metres");
   RC_CHECK(thin_min_stack, 1, 4, "samples of the 4 above and below");
   RC_CHECK(thin_max_range_step, 0.0f, 100.0f, "metres");
   RC_CHECK(proximity_azimuth_factor, 0.0f, 100.0f, "azimuth resolutions");
