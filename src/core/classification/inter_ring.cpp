@@ -3,6 +3,7 @@
 
 #include "classification/rank_select.hpp"
 #include "common/angles.hpp"
+#include "common/ring_index.hpp"
 #include "common/simd_clones.hpp"
 
 #include <algorithm>
@@ -16,18 +17,6 @@ namespace
 {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kFar = std::numeric_limits<double>::infinity();
-
-// The ring [b, e) of a position, and whether its curve wraps across the seam.
-struct Ring
-{
-  std::uint32_t b, e;
-  bool closed;
-};
-inline Ring ringOf(const ScanGrid& g, std::int32_t n)
-{
-  const auto r = static_cast<std::size_t>(n);
-  return {g.ring_begin[r], g.ring_begin[r + 1], g.ring_closed[r] != 0};
-}
 
 // A depth jump between ranges r1 and r2.
 inline bool isJump(double r1, double r2, const Params& P)
@@ -179,14 +168,14 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
   // (around the seam: the ring's last or first)
   for (int n = 1; n < g.num_rings; ++n)
   {
-    const Ring R = ringOf(g, n), B = ringOf(g, n - 1);
-    if (B.e == B.b) continue;
+    const RingSpan R(g, n), B(g, n - 1);
+    if (B.end() == B.b) continue;
     std::uint32_t q = B.b;
-    for (std::uint32_t p = R.b; p < R.e; ++p)
+    for (std::uint32_t p = R.b; p < R.end(); ++p)
     {
       const float a = az[p];
-      while (q + 1 < B.e && az[q + 1] <= a) ++q;
-      const std::uint32_t lo = az[q] <= a ? q : B.e - 1, hi = q + 1 < B.e && az[q] <= a ? q + 1 : B.b;
+      while (q + 1 < B.end() && az[q + 1] <= a) ++q;
+      const std::uint32_t lo = az[q] <= a ? q : B.end() - 1, hi = q + 1 < B.end() && az[q] <= a ? q + 1 : B.b;
       const float d_lo = circularDistance(a - az[lo]), d_hi = circularDistance(az[hi] - a);
       const std::uint32_t best = d_hi < d_lo ? hi : lo;
       down_[p] = std::min(d_lo, d_hi) <= tol ? static_cast<std::int32_t>(best) : -1;
@@ -230,12 +219,12 @@ void InterRingRefiner::ringLinks(const ScanGrid& g)
   next_.resize(m);
   for (std::int32_t n = 0; n < g.num_rings; ++n)
   {
-    const Ring R = ringOf(g, n);
-    for (std::uint32_t p = R.b; p < R.e; ++p)
+    const RingSpan R(g, n);
+    for (std::uint32_t p = R.b; p < R.end(); ++p)
     {
       // linked[q]: q joins its predecessor (a closed ring's first sample its last, across the seam)
-      const std::uint32_t after = p + 1 < R.e ? p + 1 : R.b, before = p > R.b ? p - 1 : R.e - 1;
-      const bool ahead = (p + 1 < R.e || R.closed) && g.linked[after] != 0 && after != p;
+      const std::uint32_t after = p + 1 < R.end() ? p + 1 : R.b, before = p > R.b ? p - 1 : R.end() - 1;
+      const bool ahead = (p + 1 < R.end() || R.closed) && g.linked[after] != 0 && after != p;
       const bool back = g.linked[p] != 0 && before != p;
       next_[p] = ahead ? static_cast<std::int32_t>(after) : -1;
       prev_[p] = back ? static_cast<std::int32_t>(before) : -1;
@@ -250,22 +239,22 @@ void InterRingRefiner::thinRuns(const ScanGrid& g, const Params& P)
   thin_.assign(m, 0);
   for (std::int32_t n = 0; n < g.num_rings; ++n)
   {
-    const Ring R = ringOf(g, n);
+    const RingSpan R(g, n);
     // runs split at gaps and depth jumps; a run is thin when it is narrow and both samples
     // outside it are farther than all of it (no return counts as farther)
     // A closed ring's first and last runs meet at the seam: bounded there only by a jump
     // (a run that continues across the seam is never thin, e.g. a room's wall all around).
-    const bool seam = R.closed && R.e > R.b && g.linked[R.b] != 0;
-    const bool seam_jump = seam && isJump(rho[R.b], rho[R.e - 1], P);
+    const bool seam = R.closed && R.end() > R.b && g.linked[R.b] != 0;
+    const bool seam_jump = seam && isJump(rho[R.b], rho[R.end() - 1], P);
     std::uint32_t s = R.b;
-    while (s < R.e)
+    while (s < R.end())
     {
       std::uint32_t t = s + 1;
       double rmax = rho[s];
-      while (t < R.e && g.linked[t] != 0 && !isJump(rho[t], rho[t - 1], P)) rmax = std::max(rmax, rho[t++]);
-      const double across_seam_lo = seam_jump ? rho[R.e - 1] : -kFar, across_seam_hi = seam_jump ? rho[R.b] : -kFar;
+      while (t < R.end() && g.linked[t] != 0 && !isJump(rho[t], rho[t - 1], P)) rmax = std::max(rmax, rho[t++]);
+      const double across_seam_lo = seam_jump ? rho[R.end() - 1] : -kFar, across_seam_hi = seam_jump ? rho[R.b] : -kFar;
       const double lo = s > R.b ? (g.linked[s] != 0 ? rho[s - 1] : kFar) : (seam ? across_seam_lo : kFar);
-      const double ro = t < R.e ? (g.linked[t] != 0 ? rho[t] : kFar) : (seam ? across_seam_hi : kFar);
+      const double ro = t < R.end() ? (g.linked[t] != 0 ? rho[t] : kFar) : (seam ? across_seam_hi : kFar);
       const double dx = g.x[t - 1] - g.x[s], dy = g.y[t - 1] - g.y[s], dz = g.z[t - 1] - g.z[s];
       const bool narrow = dx * dx + dy * dy + dz * dz <= static_cast<double>(P.thin_max_width) * P.thin_max_width;
       const bool far_enough = rho[s] >= static_cast<double>(P.thin_min_range);  // (clutter at the sensor is not a pole)

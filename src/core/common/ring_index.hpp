@@ -1,6 +1,9 @@
-// The position on a ring of K samples of an index a few samples before or after it (across the
-// seam of a closed ring), shared by the features' neighbour look-ups and the smoothness's windows.
+// A ring of the grid and the position on it of an index a few samples before or after another
+// (across the seam of a closed ring), shared by the features, the smoothness's windows and the
+// inter-ring steps.
 #pragma once
+
+#include "ring_curvature/scan_grid.hpp"
 
 #include <cstdint>
 
@@ -20,5 +23,23 @@ inline std::int64_t wrapRingIndex(std::int64_t i, std::int64_t K)
   }
   return i;
 }
+
+/// One ring of the grid: positions [b, b + K), and circular neighbour access.
+struct RingSpan
+{
+  std::uint32_t b, K;
+  bool closed;
+  RingSpan(const ScanGrid& g, int n)
+      : b(g.ring_begin[static_cast<std::size_t>(n)]),
+        K(g.ring_begin[static_cast<std::size_t>(n) + 1] - b),
+        closed(g.ring_closed[static_cast<std::size_t>(n)] != 0)
+  {
+  }
+  std::uint32_t end() const { return b + K; }
+  std::uint32_t pos(std::int64_t k) const
+  {
+    return b + static_cast<std::uint32_t>(wrapRingIndex(k, static_cast<std::int64_t>(K)));
+  }
+};
 
 }  // namespace ring_curvature

@@ -23,23 +23,6 @@ namespace
 using namespace detail;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// One ring of the grid: positions [b, b + K), and circular neighbour access.
-struct RingSpan
-{
-  std::uint32_t b, K;
-  bool closed;
-  RingSpan(const ScanGrid& g, int n)
-      : b(g.ring_begin[static_cast<std::size_t>(n)]),
-        K(g.ring_begin[static_cast<std::size_t>(n) + 1] - b),
-        closed(g.ring_closed[static_cast<std::size_t>(n)] != 0)
-  {
-  }
-  std::uint32_t pos(std::int64_t k) const
-  {
-    return b + static_cast<std::uint32_t>(wrapRingIndex(k, static_cast<std::int64_t>(K)));
-  }
-};
-
 // Run lengths of the samples of segment [p, q) of a ring (see ringRuns), those in [0, K).
 inline void segmentRuns(int p, int q, int K, int cap, int* __restrict L, int* __restrict R)
 {
