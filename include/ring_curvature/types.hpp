@@ -51,7 +51,8 @@ struct PointCloudView
   std::uint32_t row_step = 0;   ///< bytes per row
   FieldView x, y, z;            ///< required, Float32 or Float64
   FieldView ring;               ///< integer type; optional when organized or ring_from_elevation
-  FieldView time;               ///< optional, passed through untouched by the core
+  FieldView time;               ///< optional; the grid ignores it, the LOAM sets read it
+  double time_scale = 1.0;      ///< seconds per unit of `time` (1e-9 for nanoseconds)
   FieldView intensity;          ///< optional
 
   std::size_t size() const { return static_cast<std::size_t>(width) * height; }
