@@ -1,7 +1,9 @@
 # The ROS-free core: Eigen only, no roscpp, no PCL.
 include(${CMAKE_CURRENT_LIST_DIR}/core_sources.cmake)
 add_library(ring_curvature_core ${RC_CORE_SOURCES})
-target_include_directories(ring_curvature_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
+target_include_directories(ring_curvature_core PUBLIC include)
+# SYSTEM: GCC 12 warns (maybe-uninitialized) inside Eigen's own eigensolver.
+target_include_directories(ring_curvature_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIRS})
 target_include_directories(ring_curvature_core PRIVATE ${RC_CORE_PRIVATE_INCLUDE})
 target_compile_options(ring_curvature_core PRIVATE ${RC_WARNINGS})
 target_compile_options(ring_curvature_core PRIVATE ${RC_CORE_OPTIONS})

@@ -25,6 +25,8 @@ set(RC_CORE_SOURCES
   src/core/primitives/primitive_sums.cpp
   src/core/primitives/covariance_axis.cpp
   src/core/primitives/primitive_extractor.cpp
+  src/core/loam/loam_selector.cpp
+  src/core/loam/degeneracy.cpp
   src/core/pipeline/types.cpp
   src/core/pipeline/params.cpp
   src/core/pipeline/output_gather.cpp

@@ -92,6 +92,20 @@ struct Params
   int min_primitive_points = 3;           ///< smaller components are not reported
   bool rough_primitives = false;          ///< also report connected Rough clusters
 
+  // --- LOAM feature sets (loam_features.hpp; built only while a LOAM output is wanted) ---------
+  int loam_sectors = 6;                   ///< equal parts of each ring, each with its own quotas
+  int loam_sharp_per_sector = 2;          ///< sharpest Edge/Corner points per sector
+  int loam_less_sharp_per_sector = 20;    ///< less sharp (these hold the sharp ones)
+  int loam_flat_per_sector = 4;           ///< flattest Plane points per sector
+  int loam_suppression = 5;               ///< a chosen point blocks this many ring neighbours each side
+  float loam_less_flat_voxel = 0.2f;      ///< [m] less flat: one Plane point per voxel and ring (0: all)
+  float loam_occlusion_ratio = 0.1f;      ///< depth jump / nearer range above which the far side is occluded
+  float loam_parallel_ratio = 0.02f;      ///< range steps / range to both neighbours above which the surface runs along the beam
+  float scan_period = 0.1f;               ///< [s] one sweep (the fraction of the LOAM intensity)
+  bool sweep_clockwise = true;            ///< sweep direction, for times from azimuth (Velodyne, Ouster: clockwise)
+  float degeneracy_length = 10.0f;        ///< [m] a rotation counts as the motion it gives at this range
+  float degeneracy_min_eigenvalue = 0.01f;  ///< weakest direction's information per constraint below this: degenerate
+
   /// Checks ranges and consistency; the message names the offending parameter.
   Status validate() const;
 };

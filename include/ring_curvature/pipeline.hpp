@@ -9,6 +9,7 @@
 
 #include "ring_curvature/classifier.hpp"
 #include "ring_curvature/features.hpp"
+#include "ring_curvature/loam_features.hpp"
 #include "ring_curvature/params.hpp"
 #include "ring_curvature/primitives.hpp"
 #include "ring_curvature/scan_grid.hpp"
@@ -53,6 +54,10 @@ public:
   /// Processes one frame. On error `out` holds an empty result and the status names the problem;
   /// the pipeline stays usable for the next frame.
   Status process(const PointCloudView& view, FrameResult& out);
+
+  /// LOAM's feature sets of the last frame processed (loam_features.hpp), from its labels and
+  /// scores. `view` must be that frame's: its time field places the points in the sweep.
+  void selectLoamFeatures(const PointCloudView& view, LoamFeatures& out);
 
   /// Intermediate products of the last frame (for tools, tests and visualisation).
   const ScanGrid& grid() const;

@@ -42,4 +42,22 @@ struct RingSpan
   }
 };
 
+/// The linked ring neighbours of a ring's local index k: -1 across a gap or past an open end.
+struct RingLinks
+{
+  const ScanGrid& g;
+  const RingSpan& s;
+  std::int64_t prev(std::uint32_t k) const
+  {
+    if (k == 0 && !s.closed) return -1;
+    return g.linked[s.b + k] ? static_cast<std::int64_t>(s.pos(static_cast<std::int64_t>(k) - 1)) : -1;
+  }
+  std::int64_t next(std::uint32_t k) const
+  {
+    if (k + 1 == s.K && !s.closed) return -1;
+    const std::uint32_t q = s.pos(static_cast<std::int64_t>(k) + 1);
+    return g.linked[q] ? static_cast<std::int64_t>(q) : -1;
+  }
+};
+
 }  // namespace ring_curvature

@@ -56,6 +56,20 @@ Status Params::validate() const
   RC_CHECK(thin_min_range, 0.0f, 1000.0f, "metres");
   RC_CHECK(thin_min_stack, 1, 4, "samples of the 4 above and below");
   RC_CHECK(thin_max_range_step, 0.0f, 100.0f, "metres");
+  RC_CHECK(loam_sectors, 1, 360, "sectors per ring");
+  RC_CHECK(loam_sharp_per_sector, 0, 100000, "points per sector");
+  RC_CHECK(loam_less_sharp_per_sector, 0, 100000, "points per sector");
+  if (loam_less_sharp_per_sector < loam_sharp_per_sector)
+    return Status::error("parameter 'loam_less_sharp_per_sector' must be >= 'loam_sharp_per_sector' "
+                         "(the less sharp set holds the sharp one)");
+  RC_CHECK(loam_flat_per_sector, 0, 100000, "points per sector");
+  RC_CHECK(loam_suppression, 0, 1000, "samples on each side");
+  RC_CHECK(loam_less_flat_voxel, 0.0f, 100.0f, "metres, 0 = no downsampling");
+  RC_CHECK(loam_occlusion_ratio, 0.0f, 10.0f, "depth jump / range");
+  RC_CHECK(loam_parallel_ratio, 0.0f, 10.0f, "range step / range");
+  RC_CHECK(scan_period, 0.001f, 0.999f, "seconds; the LOAM intensity ring + time needs it below 1");
+  RC_CHECK(degeneracy_length, 0.01f, 1000.0f, "metres");
+  RC_CHECK(degeneracy_min_eigenvalue, 0.0f, 1.0f, "information per constraint");
   RC_CHECK(proximity_azimuth_factor, 0.0f, 100.0f, "azimuth resolutions");
   RC_CHECK(proximity_range_ratio, 0.0f, 10.0f, "fraction of range");
   RC_CHECK(proximity_range_min, 0.0f, 100.0f, "metres");

@@ -42,6 +42,12 @@ const Features& Pipeline::features() const { return stages_->features; }
 const std::vector<Label>& Pipeline::gridLabels() const { return stages_->labels; }
 const std::vector<RingThresholds>& Pipeline::thresholds() const { return stages_->thresholds; }
 
+void Pipeline::selectLoamFeatures(const PointCloudView& view, LoamFeatures& out)
+{
+  Stages& s = *stages_;
+  s.loam_selector.select(view, s.grid, s.features, s.labels, params_, out);
+}
+
 Status Pipeline::setParams(const Params& params)
 {
   Status st = params.validate();

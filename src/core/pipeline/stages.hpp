@@ -5,6 +5,7 @@
 #include "classification/inter_ring.hpp"
 #include "grid/scan_grid_builder.hpp"
 #include "features/feature_computer.hpp"
+#include "loam/loam_selector.hpp"
 #include "primitives/primitive_extractor.hpp"
 #include "ring_curvature/pipeline.hpp"
 #include "ring_curvature/scan_grid.hpp"
@@ -21,6 +22,7 @@ struct Pipeline::Stages
   Classifier classifier;
   InterRingRefiner inter_ring;
   PrimitiveExtractor primitive_extractor;
+  LoamSelector loam_selector;
   ScanGrid grid;
   Features features;
   std::vector<RingThresholds> thresholds;

@@ -1,0 +1,239 @@
+#include "loam/loam_selector.hpp"
+
+#include "common/angles.hpp"
+#include "common/ring_index.hpp"
+#include "loam/degeneracy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ring_curvature
+{
+
+namespace
+{
+constexpr std::uint8_t kExcluded = 1;    // occluded or along the beam: in no set
+constexpr std::uint8_t kSuppressed = 2;  // next to a chosen point: not chosen itself
+constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
+
+std::uint64_t voxelKey(double x, double y, double z, double inv)
+{
+  // 21 bits per axis: +-1e6 voxels, i.e. +-200 km at 0.2 m, beyond any LiDAR's range.
+  const auto axis = [inv](double v) {
+    const double c = std::floor(v * inv) + 1048576.0;
+    return static_cast<std::uint64_t>(std::min(std::max(c, 0.0), 2097151.0));
+  };
+  return axis(x) << 42 | axis(y) << 21 | axis(z);
+}
+}  // namespace
+
+void LoamSelector::select(const PointCloudView& view, const ScanGrid& grid, const Features& f,
+                          const std::vector<Label>& labels, const Params& params, LoamFeatures& out)
+{
+  out.sharp.clear();
+  out.less_sharp.clear();
+  out.flat.clear();
+  out.less_flat.clear();
+  exclusions(grid, params);
+  sweepTimes(view, grid, params, out);
+
+  const int sectors = params.loam_sectors;
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const RingSpan s(grid, n);
+    for (int sec = 0; sec < sectors; ++sec)
+    {
+      const std::uint32_t lo = s.b + static_cast<std::uint32_t>(static_cast<std::uint64_t>(s.K) * sec / sectors);
+      const std::uint32_t hi = s.b + static_cast<std::uint32_t>(static_cast<std::uint64_t>(s.K) * (sec + 1) / sectors);
+      // LOAM's order: the sharp points first, then the flat ones among what they left free.
+      sharp_.clear();
+      for (std::uint32_t p = lo; p < hi; ++p)
+      {
+        const Label l = labels[p];
+        const float turn = f.turning[p];
+        if ((l == Label::Edge || l == Label::Corner) && !blocked_[p] && std::isfinite(turn))
+          sharp_.push_back({-std::fabs(turn), p});
+      }
+      pick(grid, s, sharp_, params.loam_less_sharp_per_sector, params.loam_suppression, out.less_sharp, &out.sharp,
+           params.loam_sharp_per_sector);
+      flat_.clear();
+      for (std::uint32_t p = lo; p < hi; ++p)
+      {
+        const float turn = f.turning[p];
+        if (labels[p] == Label::Plane && !blocked_[p] && std::isfinite(turn))
+          flat_.push_back({std::fabs(turn), p});
+      }
+      pick(grid, s, flat_, params.loam_flat_per_sector, params.loam_suppression, out.flat, nullptr, 0);
+    }
+    lessFlat(grid, s.b, s.K, labels, params, out);
+  }
+  out.degeneracy = assessDegeneracy(grid, out, params);
+}
+
+void LoamSelector::exclusions(const ScanGrid& grid, const Params& params)
+{
+  blocked_.assign(grid.size(), 0);
+  const double occl = params.loam_occlusion_ratio, par = params.loam_parallel_ratio;
+  const int shadow = params.loam_suppression + 1;  // LOAM drops the far side's six samples
+  for (int n = 0; n < grid.num_rings; ++n)
+  {
+    const RingSpan s(grid, n);
+    const RingLinks links{grid, s};
+    for (std::uint32_t k = 0; k < s.K; ++k)
+    {
+      const std::uint32_t p = s.b + k;
+      const std::int64_t q = links.prev(k);
+      if (q < 0) continue;
+      const double r1 = grid.range[p], r0 = grid.range[static_cast<std::size_t>(q)];
+      if (std::fabs(r1 - r0) > occl * std::min(r0, r1))
+      {
+        // Walk from the jump into the far side: that surface continues behind the near one, so
+        // its samples next to the jump are where the occluder's edge happens to cut it.
+        const bool forward = r1 > r0;
+        std::int64_t at = forward ? static_cast<std::int64_t>(p) : q;
+        std::uint32_t local = forward ? k : static_cast<std::uint32_t>(at - s.b);
+        for (int i = 0; i < shadow && at >= 0; ++i)
+        {
+          blocked_[static_cast<std::size_t>(at)] |= kExcluded;
+          at = forward ? links.next(local) : links.prev(local);
+          if (at >= 0) local = static_cast<std::uint32_t>(at - s.b);
+        }
+      }
+      const std::int64_t nx = links.next(k);
+      if (nx >= 0)
+      {
+        const double r2 = grid.range[static_cast<std::size_t>(nx)];
+        if (std::fabs(r2 - r1) > par * r1 && std::fabs(r1 - r0) > par * r1)
+          blocked_[p] |= kExcluded;  // grazing surface: its points move with the beam, not the scene
+      }
+    }
+  }
+}
+
+void LoamSelector::block(const ScanGrid& grid, const RingSpan& s, std::uint32_t k, int suppression)
+{
+  const RingLinks links{grid, s};
+  const std::uint32_t b = s.b;
+  std::uint32_t local = k;
+  for (int i = 0; i < suppression; ++i)  // ahead, up to a gap
+  {
+    const std::int64_t q = links.next(local);
+    if (q < 0) break;
+    blocked_[static_cast<std::size_t>(q)] |= kSuppressed;
+    local = static_cast<std::uint32_t>(q - b);
+  }
+  local = k;
+  for (int i = 0; i < suppression; ++i)  // behind
+  {
+    const std::int64_t q = links.prev(local);
+    if (q < 0) break;
+    blocked_[static_cast<std::size_t>(q)] |= kSuppressed;
+    local = static_cast<std::uint32_t>(q - b);
+  }
+}
+
+void LoamSelector::pick(const ScanGrid& grid, const RingSpan& s, std::vector<Candidate>& cand, int quota, int suppression,
+                        std::vector<std::uint32_t>& out, std::vector<std::uint32_t>* also, int also_quota)
+{
+  if (quota <= 0 || cand.empty()) return;
+  const auto less = [](const Candidate& a, const Candidate& b) { return a.score < b.score || (a.score == b.score && a.pos < b.pos); };
+  // Each pick blocks at most 2 * suppression others, so the best quota * (2s + 1) suffice.
+  const std::size_t need = std::min(cand.size(), static_cast<std::size_t>(quota) * (2 * static_cast<std::size_t>(suppression) + 1));
+  std::partial_sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(need), cand.end(), less);
+  int taken = 0;
+  for (std::size_t i = 0; i < need && taken < quota; ++i)
+  {
+    const std::uint32_t p = cand[i].pos;
+    if (blocked_[p]) continue;
+    out.push_back(p);
+    if (also && taken < also_quota) also->push_back(p);
+    ++taken;
+    blocked_[p] |= kSuppressed;
+    block(grid, s, p - s.b, suppression);
+  }
+}
+
+void LoamSelector::lessFlat(const ScanGrid& grid, std::uint32_t b, std::uint32_t K, const std::vector<Label>& labels,
+                            const Params& params, LoamFeatures& out)
+{
+  const float voxel = params.loam_less_flat_voxel;
+  if (voxel <= 0.0f)
+  {
+    for (std::uint32_t p = b; p < b + K; ++p)
+      if (labels[p] == Label::Plane && !(blocked_[p] & kExcluded)) out.less_flat.push_back(p);
+    return;
+  }
+  // One point per voxel, the flat ones first so that the less flat set holds them (LOAM's
+  // odometry matches the flat points of one frame to the less flat of the last).
+  std::size_t cap = 16;
+  while (cap < 2 * static_cast<std::size_t>(K)) cap <<= 1;
+  if (voxel_keys_.size() < cap) voxel_keys_.assign(cap, kNoKey);
+  const std::size_t mask = cap - 1;
+  const double inv = 1.0 / voxel;
+  const auto insert = [&](std::uint32_t p) {
+    const std::uint64_t key = voxelKey(grid.x[p], grid.y[p], grid.z[p], inv);
+    std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    while (voxel_keys_[h] != kNoKey)
+    {
+      if (voxel_keys_[h] == key) return false;
+      h = (h + 1) & mask;
+    }
+    voxel_keys_[h] = key;
+    voxel_used_.push_back(static_cast<std::uint32_t>(h));
+    return true;
+  };
+  voxel_used_.clear();
+  for (std::size_t i = out.flat.size(); i-- > 0 && out.flat[i] >= b;)
+  {
+    insert(out.flat[i]);
+    out.less_flat.push_back(out.flat[i]);
+  }
+  for (std::uint32_t p = b; p < b + K; ++p)
+    if (labels[p] == Label::Plane && !(blocked_[p] & kExcluded) && insert(p)) out.less_flat.push_back(p);
+  for (const std::uint32_t h : voxel_used_) voxel_keys_[h] = kNoKey;
+}
+
+void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, const Params& params, LoamFeatures& out)
+{
+  const std::size_t n = grid.size();
+  out.sweep_time.resize(n);
+  out.time_from_field = false;
+  const double period = params.scan_period;
+  if (view.time.present() && n > 0)
+  {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t p = 0; p < n; ++p)
+    {
+      const double t = readScalar(view.record(grid.index[p]) + view.time.offset, view.time.type);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    // A constant field (KITTI's bags carry time = 0) says nothing: fall back to the azimuth.
+    if (std::isfinite(lo) && std::isfinite(hi) && (hi - lo) * view.time_scale > 1e-7)
+    {
+      for (std::size_t p = 0; p < n; ++p)
+      {
+        const double t = (readScalar(view.record(grid.index[p]) + view.time.offset, view.time.type) - lo) * view.time_scale;
+        out.sweep_time[p] = static_cast<float>(std::min(std::max(t, 0.0), period));
+      }
+      out.time_from_field = true;
+      return;
+    }
+  }
+  if (n == 0) return;
+  // The sweep starts where the first point in the input was fired.
+  std::size_t first = 0;
+  for (std::size_t p = 1; p < n; ++p)
+    if (grid.index[p] < grid.index[first]) first = p;
+  const double start = grid.azimuth[first], two_pi = 2.0 * kPiD;
+  const double sign = params.sweep_clockwise ? -1.0 : 1.0;  // clockwise: azimuth falls with time
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    double turned = sign * (static_cast<double>(grid.azimuth[p]) - start);
+    turned -= two_pi * std::floor(turned / two_pi);
+    out.sweep_time[p] = static_cast<float>(std::min(turned / two_pi * period, period));
+  }
+}
+
+}  // namespace ring_curvature

@@ -1,0 +1,51 @@
+// LOAM's feature sets from the core's labels: per ring and sector the sharpest Edge/Corner and
+// the flattest Plane points, with LOAM's rules (neighbour suppression, no occluded side of a
+// depth jump, no surface running along the beam) and a per-ring voxel grid for the less flat set.
+// The labels replace LOAM's curvature thresholds, so foliage (Rough) gives no landmarks at all.
+// Reads the grid only (and the time field of the points it places in the sweep): no extra pass
+// over the input, O(n) apart from the partial sorts of a few candidates per sector.
+#pragma once
+
+#include "ring_curvature/loam_features.hpp"
+#include "ring_curvature/params.hpp"
+#include "ring_curvature/scan_grid.hpp"
+#include "ring_curvature/features.hpp"
+#include "common/ring_index.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace ring_curvature
+{
+
+class LoamSelector
+{
+public:
+  void select(const PointCloudView& view, const ScanGrid& grid, const Features& f, const std::vector<Label>& labels,
+              const Params& params, LoamFeatures& out);
+
+private:
+  struct Candidate
+  {
+    float score;
+    std::uint32_t pos;
+  };
+  /// Excluded positions: the far side of depth jumps, surfaces along the beam (blocked_).
+  void exclusions(const ScanGrid& grid, const Params& params);
+  /// Picks up to `quota` of `cand` in score order, skipping blocked ones; each pick blocks its
+  /// `suppression` linked neighbours on each side. Appends to `out` (and to `also` for the
+  /// first `also_quota`).
+  void pick(const ScanGrid& grid, const RingSpan& s, std::vector<Candidate>& cand, int quota, int suppression,
+            std::vector<std::uint32_t>& out, std::vector<std::uint32_t>* also, int also_quota);
+  void block(const ScanGrid& grid, const RingSpan& s, std::uint32_t k, int suppression);
+  void lessFlat(const ScanGrid& grid, std::uint32_t b, std::uint32_t K, const std::vector<Label>& labels,
+                const Params& params, LoamFeatures& out);
+  void sweepTimes(const PointCloudView& view, const ScanGrid& grid, const Params& params, LoamFeatures& out);
+
+  std::vector<std::uint8_t> blocked_, chosen_;
+  std::vector<Candidate> sharp_, flat_;
+  std::vector<std::uint64_t> voxel_keys_;  // open-addressing set, one ring at a time
+  std::vector<std::uint32_t> voxel_used_;
+};
+
+}  // namespace ring_curvature
