@@ -49,7 +49,7 @@ target_link_libraries(ring_curvature_ab_shim ring_curvature_core)
 target_compile_options(ring_curvature_ab_shim PRIVATE ${RC_WARNINGS})
 add_executable(ab_core src/tools/ab_core.cpp)
 target_include_directories(ab_core SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${EIGEN3_INCLUDE_DIRS})
-# the project's headers for the adapter's constants only: ab_core still links no build of the core
+# the project's headers for the default field lists only: ab_core still links no build of the core
 target_include_directories(ab_core PRIVATE include)
 target_link_libraries(ab_core ${catkin_LIBRARIES} ${CMAKE_DL_LIBS})
 target_compile_options(ab_core PRIVATE ${RC_WARNINGS})

@@ -11,6 +11,13 @@ if(CATKIN_ENABLE_TESTING)
     target_compile_options(test_ros_cloud_adapter PRIVATE ${RC_WARNINGS})
   endif()
 
+  # The adapter against real drivers' point layouts and the field-name parameters.
+  catkin_add_gtest(test_ros_driver_layouts test/ros/test_driver_layouts.cpp)
+  if(TARGET test_ros_driver_layouts)
+    target_link_libraries(test_ros_driver_layouts ring_curvature_ros gtest_main)
+    target_compile_options(test_ros_driver_layouts PRIVATE ${RC_WARNINGS})
+  endif()
+
   # (The PCL point type's test, test_ros_point_types, is in cmake/lab.cmake: it needs PCL.)
 
   add_rostest_gtest(test_ros_nodelet_inprocess test/ros/nodelet_inprocess.test test/ros/test_nodelet_inprocess.cpp)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "ring_curvature/types.hpp"
 
@@ -38,8 +39,24 @@ enum class ClassifierMode : int
   Robust = 1,    ///< median + k * MAD per ring, floored by what sensor noise alone can produce
 };
 
+/// Unit of the per-point time field (PointCloudView::time_scale is derived from it).
+/// Members are spelt as the parameter's values ("auto", "s", "ms", "us", "ns").
+enum class TimeUnit : int
+{
+  Auto = 0,  ///< float32/float64: seconds (nanoseconds when the value exceeds 1e12); integers: nanoseconds
+  S = 1,
+  Ms = 2,
+  Us = 3,
+  Ns = 4,
+};
+
 struct Params
 {
+  // --- input layout (names of the driver's fields; start-up only) ---------------------------
+  std::string ring_field = "ring,channel,line,laser_id";  ///< ring index: the first of these names present
+  std::string time_field = "time,t,timestamp,time_stamp,offset_time";  ///< per-point time: the first present
+  TimeUnit time_unit = TimeUnit::Auto;  ///< unit of the time field
+
   // --- scan grid -------------------------------------------------------------------------
   int max_rings = 256;                  ///< frames with a ring index >= this are rejected
   float min_range = 0.3f;               ///< [m] closer returns are invalid (sensor housing)
@@ -114,10 +131,35 @@ const char* toString(CurvatureMode m);
 const char* toString(SmoothnessMode m);
 const char* toString(DiscontinuityMode m);
 const char* toString(ClassifierMode m);
+const char* toString(TimeUnit u);
 /// Parse the names printed by toString (case-sensitive); false when unknown.
 bool parse(const std::string& s, CurvatureMode& out);
 bool parse(const std::string& s, SmoothnessMode& out);
 bool parse(const std::string& s, DiscontinuityMode& out);
 bool parse(const std::string& s, ClassifierMode& out);
+bool parse(const std::string& s, TimeUnit& out);
+
+/// Seconds per unit of an explicitly set time unit; 0 for TimeUnit::Auto (decided per cloud).
+double secondsPerUnit(TimeUnit u);
+
+/// Calls `f(name)` for each name of a comma-separated field list (ring_field, time_field), blanks
+/// around a name trimmed, until `f` returns true; returns whether one did. Allocates nothing, so
+/// the adapter can walk the list every frame.
+template <class F>
+bool forEachFieldName(std::string_view list, F&& f)
+{
+  while (true)
+  {
+    const std::size_t comma = list.find(',');
+    std::string_view name = list.substr(0, comma);
+    const std::size_t b = name.find_first_not_of(" \t");
+    name = b == std::string_view::npos ? std::string_view() : name.substr(b, name.find_last_not_of(" \t") - b + 1);
+    if (f(name))
+      return true;
+    if (comma == std::string_view::npos)
+      return false;
+    list.remove_prefix(comma + 1);
+  }
+}
 
 }  // namespace ring_curvature

@@ -50,7 +50,7 @@ RingCurvatureConfig toConfig(const Params& p)
 
 Params fromConfig(const RingCurvatureConfig& c, const Params& base)
 {
-  Params p = base;  // max_rings, ring_from_elevation, duplicate_azimuth_fraction: start-up only
+  Params p = base;  // field names, time_unit, max_rings, ring_from_elevation, duplicate_azimuth_fraction: start-up only
   p.min_range = static_cast<float>(c.min_range);
   p.max_range = static_cast<float>(c.max_range);
   p.azimuth_resolution_deg = static_cast<float>(c.azimuth_resolution_deg);

@@ -1,5 +1,8 @@
 #include <ros/console.h>
 
+#include <string>
+#include <vector>
+
 #include "ring_curvature/ros/param_loading.hpp"
 #include "ring_curvature/ros/param_table.hpp"
 
@@ -26,6 +29,15 @@ public:
     if (pnh_.getParam(key, k))
     {
       v = std::to_string(k);
+      return true;
+    }
+    // A YAML list of names (ring_field: [ring, beam]) means the same as "ring,beam".
+    std::vector<std::string> names;
+    if (pnh_.getParam(key, names))
+    {
+      v.clear();
+      for (const std::string& n : names)
+        v += (v.empty() ? "" : ",") + n;
       return true;
     }
     return fail(key, "a name");

@@ -57,6 +57,8 @@ private:
 Status forEachParam(Params& p, ParamVisitor& v)
 {
   const bool ok =
+      v.visit("ring_field", p.ring_field) && v.visit("time_field", p.time_field) &&
+      visitEnum(v, "time_unit", p.time_unit, "auto, s, ms, us, ns") &&
       v.visit("max_rings", p.max_rings) && v.visit("min_range", p.min_range) && v.visit("max_range", p.max_range) &&
       v.visit("ring_from_elevation", p.ring_from_elevation) &&
       v.visit("azimuth_resolution_deg", p.azimuth_resolution_deg) &&

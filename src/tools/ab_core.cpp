@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "ab_shim.h"
-#include "ring_curvature/ros/cloud_adapter.hpp"  // kTimeFieldNames (a constant: nothing to link)
+#include "ring_curvature/params.hpp"  // the default field lists (header-only use: nothing to link)
 
 using Clock = std::chrono::steady_clock;
 
@@ -231,10 +231,23 @@ std::uint8_t fieldType(const sensor_msgs::PointCloud2& msg, const char* name, st
   return 7;  // float32, unused for an absent field
 }
 
-// The field layout as the nodelet's adapter (makeView) finds it: x, y, z, ring, the first time
-// field of its list that has a usable type, intensity. The core checks the rest itself.
+// The first field of a comma-separated list that the cloud has, as the adapter picks it.
+RcAbField firstField(const sensor_msgs::PointCloud2& msg, const std::string& names)
+{
+  RcAbField f{};
+  f.offset = -1;
+  ring_curvature::forEachFieldName(names, [&](std::string_view name) {
+    f.type = fieldType(msg, std::string(name).c_str(), f.offset);
+    return f.offset >= 0;
+  });
+  return f;
+}
+
+// The field layout as the nodelet's adapter (makeView) finds it with default parameters: x, y, z,
+// the first present name of ring_field and of time_field, intensity. The core checks the rest.
 RcAbCloud toCloud(const sensor_msgs::PointCloud2& msg)
 {
+  static const ring_curvature::Params defaults;
   RcAbCloud c{};
   c.data = msg.data.data();
   c.data_size = msg.data.size();
@@ -245,19 +258,9 @@ RcAbCloud toCloud(const sensor_msgs::PointCloud2& msg)
   c.x.type = fieldType(msg, "x", c.x.offset);
   c.y.type = fieldType(msg, "y", c.y.offset);
   c.z.type = fieldType(msg, "z", c.z.offset);
-  c.ring.type = fieldType(msg, "ring", c.ring.offset);
+  c.ring = firstField(msg, defaults.ring_field);
   c.intensity.type = fieldType(msg, "intensity", c.intensity.offset);
-  c.time.offset = -1;
-  for (const char* name : ring_curvature::kTimeFieldNames)
-  {
-    RcAbField f{};
-    f.type = fieldType(msg, name, f.offset);
-    if (f.offset >= 0 && (f.type == 7 || f.type == 8 || f.type == 6))
-    {
-      c.time = f;
-      break;
-    }
-  }
+  c.time = firstField(msg, defaults.time_field);
   return c;
 }
 

@@ -18,8 +18,11 @@ for m in re.finditer(r"enum class (\w+) : int\s*\{(.*?)\};", hpp, re.S):
 
 struct = hpp[hpp.index("struct Params"):]
 params = {}  # name -> (type, default as python value)
-for typ, name, val in re.findall(r"^\s+(int|float|bool|\w+Mode) (\w+) = ([^;]+);", struct, re.M):
-    if typ == "bool":
+types = "|".join(["int", "float", "bool", "std::string"] + sorted(enums))
+for typ, name, val in re.findall(r"^\s+(" + types + r") (\w+) = ([^;]+);", struct, re.M):
+    if typ == "std::string":
+        params[name] = (typ, val.strip().strip('"'))
+    elif typ == "bool":
         params[name] = (typ, val.strip() == "true")
     elif typ in ("int",):
         params[name] = (typ, int(val))
@@ -64,6 +67,8 @@ for name, (typ, want) in params.items():
     v, comment = yaml[name]
     if typ == "bool":
         got = v.lower() == "true"
+    elif typ == "std::string":
+        got = v.strip("'\"")
     elif typ in enums:
         got = v.strip("'\"")
         want = want.lower()

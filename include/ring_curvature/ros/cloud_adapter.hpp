@@ -12,17 +12,16 @@
 namespace ring_curvature
 {
 
-/// Names accepted for the per-point time field, in order of preference (Velodyne, Ouster,
-/// Hesai / others). (In the header, so that tools which do not link the adapter, such as
-/// src/tools/ab_core.cpp, find the time field by the same list.)
-inline constexpr const char* kTimeFieldNames[3] = {"time", "t", "timestamp"};
-
 /// Fills `view` with pointers into `msg.data` (the view is only valid while `msg` lives).
 /// Checks what is ROS-specific: endianness, field names and datatypes, field extents against
 /// point_step, row_step against width * point_step, data.size() against row_step * height.
+/// The ring and time are the first fields named in params.ring_field / params.time_field that
+/// the cloud has; view.time_scale follows params.time_unit ("auto": float fields seconds, or
+/// nanoseconds above 1e12; integer fields nanoseconds).
 /// On error the message names the problem and what to do about it.
 /// @param[in] msg     the cloud, read in place
-/// @param[in] params  ring_from_elevation decides whether a missing ring field is an error
+/// @param[in] params  ring_field, time_field, time_unit; ring_from_elevation decides whether a
+///                    missing ring field is an error
 /// @param[out] view   valid only on success
 Status makeView(const sensor_msgs::PointCloud2& msg, const Params& params, PointCloudView& view);
 

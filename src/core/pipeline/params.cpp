@@ -21,6 +21,16 @@ bool inRange(T v, T lo, T hi)
 {
   return v >= lo && v <= hi;  // false for NaN
 }
+
+// A field list must name at least one field and no empty one ("ring,,line" is a typo).
+Status checkFieldList(const char* name, const std::string& list)
+{
+  const bool has_empty = forEachFieldName(list, [](std::string_view n) { return n.empty(); });
+  if (has_empty)
+    return Status::error(std::string("parameter '") + name + "' = '" + list +
+                         "' holds an empty name: give field names separated by commas, e.g. 'ring,channel'");
+  return Status::success();
+}
 }  // namespace
 
 #define RC_CHECK(name, lo, hi, why) \
@@ -29,6 +39,10 @@ bool inRange(T v, T lo, T hi)
 
 Status Params::validate() const
 {
+  if (Status s = checkFieldList("ring_field", ring_field); !s)
+    return s;
+  if (Status s = checkFieldList("time_field", time_field); !s)
+    return s;
   RC_CHECK(max_rings, 1, 4096, "number of rings accepted per frame");
   RC_CHECK(min_range, 0.0f, 1000.0f, "metres");
   RC_CHECK(max_range, 0.01f, 10000.0f, "metres");
@@ -80,6 +94,8 @@ Status Params::validate() const
   RC_CHECK(sm, 0, 1, "smoothness_mode: 0 variance, 1 detrended");
   RC_CHECK(dm, 0, 1, "discontinuity_mode: 0 paper, 1 jump");
   RC_CHECK(km, 0, 1, "classifier_mode: 0 quartile, 1 robust");
+  int tu = static_cast<int>(time_unit);
+  RC_CHECK(tu, 0, 4, "time_unit: 0 auto, 1 s, 2 ms, 3 us, 4 ns");
   return Status::success();
 }
 #undef RC_CHECK
@@ -97,6 +113,31 @@ const char* toString(CurvatureMode m)
 const char* toString(SmoothnessMode m) { return m == SmoothnessMode::Variance ? "variance" : "detrended"; }
 const char* toString(DiscontinuityMode m) { return m == DiscontinuityMode::Paper ? "paper" : "jump"; }
 const char* toString(ClassifierMode m) { return m == ClassifierMode::Quartile ? "quartile" : "robust"; }
+const char* toString(TimeUnit u)
+{
+  switch (u)
+  {
+    case TimeUnit::Auto: return "auto";
+    case TimeUnit::S: return "s";
+    case TimeUnit::Ms: return "ms";
+    case TimeUnit::Us: return "us";
+    case TimeUnit::Ns: return "ns";
+  }
+  return "?";
+}
+
+double secondsPerUnit(TimeUnit u)
+{
+  switch (u)
+  {
+    case TimeUnit::Auto: return 0.0;
+    case TimeUnit::S: return 1.0;
+    case TimeUnit::Ms: return 1e-3;
+    case TimeUnit::Us: return 1e-6;
+    case TimeUnit::Ns: return 1e-9;
+  }
+  return 0.0;
+}
 
 namespace
 {
@@ -117,5 +158,6 @@ bool parse(const std::string& s, CurvatureMode& out) { return parseEnum<Curvatur
 bool parse(const std::string& s, SmoothnessMode& out) { return parseEnum<SmoothnessMode, 2>(s, out); }
 bool parse(const std::string& s, DiscontinuityMode& out) { return parseEnum<DiscontinuityMode, 2>(s, out); }
 bool parse(const std::string& s, ClassifierMode& out) { return parseEnum<ClassifierMode, 2>(s, out); }
+bool parse(const std::string& s, TimeUnit& out) { return parseEnum<TimeUnit, 5>(s, out); }
 
 }  // namespace ring_curvature
