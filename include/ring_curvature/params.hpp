@@ -50,6 +50,13 @@ enum class TimeUnit : int
   Ns = 4,
 };
 
+/// Point layout of the LOAM outputs.
+enum class LoamPointFormat : int
+{
+  Xyzi = 0,   ///< pcl::PointXYZI, intensity = ring + seconds since the sweep began (A-LOAM's)
+  Input = 1,  ///< the input's own records (every field, time included)
+};
+
 struct Params
 {
   // --- input layout (names of the driver's fields; start-up only) ---------------------------
@@ -110,6 +117,7 @@ struct Params
   bool rough_primitives = false;          ///< also report connected Rough clusters
 
   // --- LOAM feature sets (loam_features.hpp; built only while a LOAM output is wanted) ---------
+  LoamPointFormat loam_point_format = LoamPointFormat::Xyzi;
   int loam_sectors = 6;                   ///< equal parts of each ring, each with its own quotas
   int loam_sharp_per_sector = 2;          ///< sharpest Edge/Corner points per sector
   int loam_less_sharp_per_sector = 20;    ///< less sharp (these hold the sharp ones)
@@ -132,12 +140,14 @@ const char* toString(SmoothnessMode m);
 const char* toString(DiscontinuityMode m);
 const char* toString(ClassifierMode m);
 const char* toString(TimeUnit u);
+const char* toString(LoamPointFormat f);
 /// Parse the names printed by toString (case-sensitive); false when unknown.
 bool parse(const std::string& s, CurvatureMode& out);
 bool parse(const std::string& s, SmoothnessMode& out);
 bool parse(const std::string& s, DiscontinuityMode& out);
 bool parse(const std::string& s, ClassifierMode& out);
 bool parse(const std::string& s, TimeUnit& out);
+bool parse(const std::string& s, LoamPointFormat& out);
 
 /// Seconds per unit of an explicitly set time unit; 0 for TimeUnit::Auto (decided per cloud).
 double secondsPerUnit(TimeUnit u);

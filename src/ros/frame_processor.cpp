@@ -5,6 +5,7 @@
 
 #include "ring_curvature/pipeline.hpp"
 #include "ring_curvature/ros/cloud_adapter.hpp"
+#include "ring_curvature/ros/loam_outputs.hpp"
 #include "ring_curvature/ros/markers.hpp"
 #include "ring_curvature/ros/outputs.hpp"
 
@@ -23,6 +24,8 @@ struct FrameProcessor::Impl
   PrimitiveArrayPtr primitives;
   visualization_msgs::MarkerArrayPtr markers;
   MarkerScratch marker_scratch;  // (grown to the largest primitive once, not allocated per frame)
+  LoamFeatures loam;
+  sensor_msgs::PointCloud2Ptr loam_cloud, sharp, less_sharp, flat, less_flat;
 };
 
 FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
@@ -68,6 +71,28 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     out.markers = m.markers = makePrimitiveMarkers(r.primitives, view, msg.header, std::move(m.markers), &m.marker_scratch);
 
   FrameSummary& f = summary_;
+  f.loam = select.anyLoam();
+  f.loam_ms = 0;
+  if (f.loam)
+  {
+    const auto tl = std::chrono::steady_clock::now();
+    m.pipeline.selectLoamFeatures(view, m.loam);
+    f.loam_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tl).count();
+    const ScanGrid& g = m.pipeline.grid();
+    const LoamPointFormat fmt = m.pipeline.params().loam_point_format;
+    if (select.loam_cloud) out.loam_cloud = m.loam_cloud = makeLoamCloud(msg, g, m.loam, nullptr, fmt, std::move(m.loam_cloud));
+    if (select.sharp) out.sharp = m.sharp = makeLoamCloud(msg, g, m.loam, &m.loam.sharp, fmt, std::move(m.sharp));
+    if (select.less_sharp)
+      out.less_sharp = m.less_sharp = makeLoamCloud(msg, g, m.loam, &m.loam.less_sharp, fmt, std::move(m.less_sharp));
+    if (select.flat) out.flat = m.flat = makeLoamCloud(msg, g, m.loam, &m.loam.flat, fmt, std::move(m.flat));
+    if (select.less_flat)
+      out.less_flat = m.less_flat = makeLoamCloud(msg, g, m.loam, &m.loam.less_flat, fmt, std::move(m.less_flat));
+    f.sharp = m.loam.sharp.size();
+    f.less_sharp = m.loam.less_sharp.size();
+    f.flat = m.loam.flat.size();
+    f.less_flat = m.loam.less_flat.size();
+    f.degeneracy = m.loam.degeneracy;
+  }
   f.points = r.label.size();
   f.label_counts = r.label_counts;
   f.primitives = r.primitives.primitives.size();

@@ -45,6 +45,19 @@ RingCurvatureConfig toConfig(const Params& p)
   c.proximity_range_min = p.proximity_range_min;
   c.min_primitive_points = p.min_primitive_points;
   c.rough_primitives = p.rough_primitives;
+  c.loam_point_format = static_cast<int>(p.loam_point_format);
+  c.loam_sectors = p.loam_sectors;
+  c.loam_sharp_per_sector = p.loam_sharp_per_sector;
+  c.loam_less_sharp_per_sector = p.loam_less_sharp_per_sector;
+  c.loam_flat_per_sector = p.loam_flat_per_sector;
+  c.loam_suppression = p.loam_suppression;
+  c.loam_less_flat_voxel = p.loam_less_flat_voxel;
+  c.loam_occlusion_ratio = p.loam_occlusion_ratio;
+  c.loam_parallel_ratio = p.loam_parallel_ratio;
+  c.scan_period = p.scan_period;
+  c.sweep_clockwise = p.sweep_clockwise;
+  c.degeneracy_length = p.degeneracy_length;
+  c.degeneracy_min_eigenvalue = p.degeneracy_min_eigenvalue;
   return c;
 }
 
@@ -91,6 +104,19 @@ Params fromConfig(const RingCurvatureConfig& c, const Params& base)
   p.proximity_range_min = static_cast<float>(c.proximity_range_min);
   p.min_primitive_points = c.min_primitive_points;
   p.rough_primitives = c.rough_primitives;
+  p.loam_point_format = static_cast<LoamPointFormat>(c.loam_point_format);
+  p.loam_sectors = c.loam_sectors;
+  p.loam_sharp_per_sector = c.loam_sharp_per_sector;
+  p.loam_less_sharp_per_sector = c.loam_less_sharp_per_sector;
+  p.loam_flat_per_sector = c.loam_flat_per_sector;
+  p.loam_suppression = c.loam_suppression;
+  p.loam_less_flat_voxel = static_cast<float>(c.loam_less_flat_voxel);
+  p.loam_occlusion_ratio = static_cast<float>(c.loam_occlusion_ratio);
+  p.loam_parallel_ratio = static_cast<float>(c.loam_parallel_ratio);
+  p.scan_period = static_cast<float>(c.scan_period);
+  p.sweep_clockwise = c.sweep_clockwise;
+  p.degeneracy_length = static_cast<float>(c.degeneracy_length);
+  p.degeneracy_min_eigenvalue = static_cast<float>(c.degeneracy_min_eigenvalue);
   return p;
 }
 

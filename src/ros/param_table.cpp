@@ -92,7 +92,16 @@ Status forEachParam(Params& p, ParamVisitor& v)
       v.visit("proximity_azimuth_factor", p.proximity_azimuth_factor) &&
       v.visit("proximity_range_ratio", p.proximity_range_ratio) &&
       v.visit("proximity_range_min", p.proximity_range_min) &&
-      v.visit("min_primitive_points", p.min_primitive_points) && v.visit("rough_primitives", p.rough_primitives);
+      v.visit("min_primitive_points", p.min_primitive_points) && v.visit("rough_primitives", p.rough_primitives) &&
+      visitEnum(v, "loam_point_format", p.loam_point_format, "xyzi, input") &&
+      v.visit("loam_sectors", p.loam_sectors) && v.visit("loam_sharp_per_sector", p.loam_sharp_per_sector) &&
+      v.visit("loam_less_sharp_per_sector", p.loam_less_sharp_per_sector) &&
+      v.visit("loam_flat_per_sector", p.loam_flat_per_sector) && v.visit("loam_suppression", p.loam_suppression) &&
+      v.visit("loam_less_flat_voxel", p.loam_less_flat_voxel) &&
+      v.visit("loam_occlusion_ratio", p.loam_occlusion_ratio) &&
+      v.visit("loam_parallel_ratio", p.loam_parallel_ratio) && v.visit("scan_period", p.scan_period) &&
+      v.visit("sweep_clockwise", p.sweep_clockwise) && v.visit("degeneracy_length", p.degeneracy_length) &&
+      v.visit("degeneracy_min_eigenvalue", p.degeneracy_min_eigenvalue);
   return ok ? Status::success() : Status::error(v.error);
 }
 

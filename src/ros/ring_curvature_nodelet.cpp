@@ -1,6 +1,8 @@
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <boost/make_shared.hpp>
 #include <chrono>
 #include <string>
@@ -24,6 +26,19 @@ RingCurvatureNodelet::~RingCurvatureNodelet()
 
 namespace
 {
+/// The weakest direction in words, e.g. "translation x (0.99), eigenvalue 0.0003 < 0.01".
+std::string degeneracyText(const DegeneracyReport& d)
+{
+  static const char* const names[6] = {"rotation x", "rotation y", "rotation z", "translation x", "translation y", "translation z"};
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < 6; ++i)
+    if (std::fabs(d.weakest_direction[i]) > std::fabs(d.weakest_direction[k])) k = i;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%s (%.2f), eigenvalue %.4g, from %u plane and %u line constraints", names[k],
+                std::fabs(d.weakest_direction[k]), d.eigenvalues[0], d.plane_constraints, d.line_constraints);
+  return buf;
+}
+
 /// Reads an int queue size from the private namespace; < 1 stops the nodelet with a message naming it.
 void readQueueSize(const ros::NodeHandle& pnh, const char* name, int& value)
 {
@@ -76,6 +91,12 @@ void RingCurvatureNodelet::onInit()
   pub_planes_ = pnh.advertise<sensor_msgs::PointCloud2>("planes", q, cb, cb);
   pub_markers_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", q, cb, cb);
   pub_stats_ = pnh.advertise<FrameStats>("frame_stats", std::max(q, 10U), cb, cb);
+  // LOAM's five inputs (launch/aloam_frontend.launch maps them onto A-LOAM's topic names).
+  pub_loam_cloud_ = pnh.advertise<sensor_msgs::PointCloud2>("loam/cloud", q, cb, cb);
+  pub_sharp_ = pnh.advertise<sensor_msgs::PointCloud2>("loam/sharp", q, cb, cb);
+  pub_less_sharp_ = pnh.advertise<sensor_msgs::PointCloud2>("loam/less_sharp", q, cb, cb);
+  pub_flat_ = pnh.advertise<sensor_msgs::PointCloud2>("loam/flat", q, cb, cb);
+  pub_less_flat_ = pnh.advertise<sensor_msgs::PointCloud2>("loam/less_flat", q, cb, cb);
   NODELET_INFO("ready: subscribes to %s lazily (while an output has subscribers), outputs in %s",
                nh.resolveName("velodyne_points").c_str(), pnh.getNamespace().c_str());
   // which SIMD clones this CPU runs (docs/performance.md, "SIMD")
@@ -87,7 +108,10 @@ void RingCurvatureNodelet::connectCb()
   std::lock_guard<std::mutex> lock(connect_mutex_);
   const bool wanted = pub_labelled_.getNumSubscribers() + pub_primitives_.getNumSubscribers() +
                           pub_edges_.getNumSubscribers() + pub_planes_.getNumSubscribers() +
-                          pub_markers_.getNumSubscribers() + pub_stats_.getNumSubscribers() >
+                          pub_markers_.getNumSubscribers() + pub_stats_.getNumSubscribers() +
+                          pub_loam_cloud_.getNumSubscribers() + pub_sharp_.getNumSubscribers() +
+                          pub_less_sharp_.getNumSubscribers() + pub_flat_.getNumSubscribers() +
+                          pub_less_flat_.getNumSubscribers() >
                       0;
   if (wanted && !sub_)
   {
@@ -118,6 +142,12 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
     select.edges = pub_edges_.getNumSubscribers() > 0;
     select.planes = pub_planes_.getNumSubscribers() > 0;
     select.markers = pub_markers_.getNumSubscribers() > 0;
+    select.loam_cloud = pub_loam_cloud_.getNumSubscribers() > 0;
+    select.sharp = pub_sharp_.getNumSubscribers() > 0;
+    select.less_sharp = pub_less_sharp_.getNumSubscribers() > 0;
+    select.flat = pub_flat_.getNumSubscribers() > 0;
+    select.less_flat = pub_less_flat_.getNumSubscribers() > 0;
+    select.loam_report = pub_stats_.getNumSubscribers() > 0;  // the stats carry the degeneracy report
 
     Outputs out;
     Status s;
@@ -139,6 +169,7 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
         last_summary_ = processor_->summary();
         for (int l = 0; l < kNumLabels; ++l)
           label_totals_[l] += last_summary_.label_counts[l];
+        if (last_summary_.loam && last_summary_.degeneracy.degenerate) ++degenerate_frames_;
         stats_.last_labelled = out.labelled.get();
         stats_.last_primitives = out.primitives.get();
         stats_.last_edges = out.edges.get();
@@ -187,6 +218,20 @@ void RingCurvatureNodelet::publishStats(const std_msgs::Header& header, std::chr
     st->primitives_ms = static_cast<float>(s.primitives_ms);
     st->core_output_ms = static_cast<float>(s.core_output_ms);
     st->messages_ms = static_cast<float>(s.messages_ms);
+    st->loam = s.loam;
+    st->sharp = static_cast<std::uint32_t>(s.sharp);
+    st->less_sharp = static_cast<std::uint32_t>(s.less_sharp);
+    st->flat = static_cast<std::uint32_t>(s.flat);
+    st->less_flat = static_cast<std::uint32_t>(s.less_flat);
+    st->loam_ms = static_cast<float>(s.loam_ms);
+    st->plane_constraints = s.degeneracy.plane_constraints;
+    st->line_constraints = s.degeneracy.line_constraints;
+    for (std::size_t i = 0; i < 6; ++i)
+    {
+      st->degeneracy_eigenvalues[i] = s.degeneracy.eigenvalues[i];
+      st->weakest_direction[i] = s.degeneracy.weakest_direction[i];
+    }
+    st->degenerate = s.loam && s.degeneracy.degenerate;
   }
   st->callback_ms = static_cast<float>(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_entry).count());
@@ -207,6 +252,11 @@ void RingCurvatureNodelet::publishOutputs(Outputs& out)
     pub_planes_.publish(out.planes);
   if (out.markers)
     pub_markers_.publish(out.markers);
+  if (out.loam_cloud) pub_loam_cloud_.publish(out.loam_cloud);
+  if (out.sharp) pub_sharp_.publish(out.sharp);
+  if (out.less_sharp) pub_less_sharp_.publish(out.less_sharp);
+  if (out.flat) pub_flat_.publish(out.flat);
+  if (out.less_flat) pub_less_flat_.publish(out.less_flat);
   out = Outputs();
 }
 
@@ -238,6 +288,8 @@ void RingCurvatureNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper&
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "idle: no subscribers to any output");
   else if (stats_.frames_rejected > 0 && !stats_.last_error.empty())
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames rejected: " + stats_.last_error);
+  else if (last_summary_.loam && last_summary_.degeneracy.degenerate)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "LOAM features degenerate: " + degeneracyText(last_summary_.degeneracy));
   else
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
 
@@ -257,6 +309,14 @@ void RingCurvatureNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper&
   stat.add("time messages [ms]", f.messages_ms);
   stat.add("time total [ms]", f.coreMs() + f.messages_ms);
   stat.add("primitives (last frame)", f.primitives);
+  if (f.loam)
+  {
+    stat.add("LOAM sharp / less sharp / flat / less flat (last frame)",
+             std::to_string(f.sharp) + " / " + std::to_string(f.less_sharp) + " / " + std::to_string(f.flat) + " / " +
+                 std::to_string(f.less_flat));
+    stat.add("LOAM weakest direction (last frame)", degeneracyText(f.degeneracy));
+  }
+  stat.add("LOAM frames degenerate", degenerate_frames_);
   for (int l = 0; l < kNumLabels; ++l)
     stat.add(std::string("points labelled ") + labelName(static_cast<Label>(l)), label_totals_[l]);
 }

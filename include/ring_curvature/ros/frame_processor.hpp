@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <memory>
 
+#include "ring_curvature/loam_features.hpp"
 #include "ring_curvature/params.hpp"
 #include "ring_curvature/ros/primitive_message.hpp"
 #include "ring_curvature/types.hpp"
@@ -23,6 +24,11 @@ struct FrameResult;
 struct OutputSelection
 {
   bool labelled = true, primitives = true, edges = true, planes = true, markers = true;
+  /// LOAM sets (~loam/*): every kept point, sharp, less sharp, flat, less flat.
+  bool loam_cloud = false, sharp = false, less_sharp = false, flat = false, less_flat = false;
+  /// Choose the LOAM sets and assess degeneracy even if none of them is published.
+  bool loam_report = false;
+  bool anyLoam() const { return loam_cloud || sharp || less_sharp || flat || less_flat || loam_report; }
 };
 
 /// The messages of one frame; null where not selected. A cloud may be one of an earlier frame,
@@ -34,6 +40,7 @@ struct Outputs
   sensor_msgs::PointCloud2Ptr edges;     ///< Edge and Corner points, input layout
   sensor_msgs::PointCloud2Ptr planes;    ///< Plane points, input layout
   visualization_msgs::MarkerArrayPtr markers;
+  sensor_msgs::PointCloud2Ptr loam_cloud, sharp, less_sharp, flat, less_flat;  ///< sorted by ring
 };
 
 /// What diagnostics and summaries need from one frame.
@@ -46,6 +53,11 @@ struct FrameSummary
   /// then building the ROS messages.
   double grid_ms = 0, features_ms = 0, thresholds_ms = 0, classification_ms = 0, primitives_ms = 0,
          core_output_ms = 0, messages_ms = 0;
+  /// LOAM sets: whether they were chosen this frame, their sizes and the degeneracy report.
+  bool loam = false;
+  std::size_t sharp = 0, less_sharp = 0, flat = 0, less_flat = 0;
+  DegeneracyReport degeneracy;
+  double loam_ms = 0;  ///< choosing the sets (core), within messages_ms
   double coreMs() const { return grid_ms + features_ms + thresholds_ms + classification_ms + primitives_ms + core_output_ms; }
 };
 

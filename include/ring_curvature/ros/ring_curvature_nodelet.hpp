@@ -66,6 +66,8 @@ private:
   ros::Subscriber sub_;
   std::atomic<bool> subscribed_{false};  // sub_ as seen from other threads (diagnostics)
   ros::Publisher pub_labelled_, pub_primitives_, pub_edges_, pub_planes_, pub_markers_, pub_stats_;
+  ros::Publisher pub_loam_cloud_, pub_sharp_, pub_less_sharp_, pub_flat_, pub_less_flat_;
+  std::size_t degenerate_frames_ = 0;  // LOAM-assessed frames found degenerate
   int queue_size_ = 1;          // ~queue_size: input subscriber queue
   int publish_queue_size_ = 1;  // ~publish_queue_size: outgoing queue per remote subscriber
 

@@ -96,6 +96,8 @@ Status Params::validate() const
   RC_CHECK(km, 0, 1, "classifier_mode: 0 quartile, 1 robust");
   int tu = static_cast<int>(time_unit);
   RC_CHECK(tu, 0, 4, "time_unit: 0 auto, 1 s, 2 ms, 3 us, 4 ns");
+  int lf = static_cast<int>(loam_point_format);
+  RC_CHECK(lf, 0, 1, "loam_point_format: 0 xyzi, 1 input");
   return Status::success();
 }
 #undef RC_CHECK
@@ -125,6 +127,8 @@ const char* toString(TimeUnit u)
   }
   return "?";
 }
+
+const char* toString(LoamPointFormat f) { return f == LoamPointFormat::Xyzi ? "xyzi" : "input"; }
 
 double secondsPerUnit(TimeUnit u)
 {
@@ -159,5 +163,6 @@ bool parse(const std::string& s, SmoothnessMode& out) { return parseEnum<Smoothn
 bool parse(const std::string& s, DiscontinuityMode& out) { return parseEnum<DiscontinuityMode, 2>(s, out); }
 bool parse(const std::string& s, ClassifierMode& out) { return parseEnum<ClassifierMode, 2>(s, out); }
 bool parse(const std::string& s, TimeUnit& out) { return parseEnum<TimeUnit, 5>(s, out); }
+bool parse(const std::string& s, LoamPointFormat& out) { return parseEnum<LoamPointFormat, 2>(s, out); }
 
 }  // namespace ring_curvature
