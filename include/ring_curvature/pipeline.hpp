@@ -51,9 +51,17 @@ public:
   Status setParams(const Params& params);
   const Params& params() const { return params_; }
 
+  /// How far process() goes.
+  enum class Scope
+  {
+    Full,       ///< everything in FrameResult
+    GridLabels  ///< up to the labels on the grid (what the LOAM sets need): no primitives and no
+                ///< per-point arrays in input order; label_counts count the grid's points
+  };
+
   /// Processes one frame. On error `out` holds an empty result and the status names the problem;
   /// the pipeline stays usable for the next frame.
-  Status process(const PointCloudView& view, FrameResult& out);
+  Status process(const PointCloudView& view, FrameResult& out, Scope scope = Scope::Full);
 
   /// LOAM's feature sets of the last frame processed (loam_features.hpp), from its labels and
   /// scores. `view` must be that frame's: its time field places the points in the sweep.

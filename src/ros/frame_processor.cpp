@@ -44,7 +44,9 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     return s;
   last_input_data_ = view.data;
   FrameResult& r = impl_->result;
-  s = impl_->pipeline.process(view, r);
+  // Primitives and the per-point arrays in input order serve only the label outputs.
+  const bool labels_out = select.labelled || select.primitives || select.edges || select.planes || select.markers;
+  s = impl_->pipeline.process(view, r, labels_out || !select.anyLoam() ? Pipeline::Scope::Full : Pipeline::Scope::GridLabels);
   if (!s)
     return s;
 
@@ -93,7 +95,7 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     f.less_flat = m.loam.less_flat.size();
     f.degeneracy = m.loam.degeneracy;
   }
-  f.points = r.label.size();
+  f.points = static_cast<std::size_t>(msg.width) * msg.height;
   f.label_counts = r.label_counts;
   f.primitives = r.primitives.primitives.size();
   f.grid_ms = r.times.grid;

@@ -55,7 +55,7 @@ Status Pipeline::setParams(const Params& params)
   return st;
 }
 
-Status Pipeline::process(const PointCloudView& view, FrameResult& out)
+Status Pipeline::process(const PointCloudView& view, FrameResult& out, Scope scope)
 {
   Stages& s = *stages_;
   out.times = StageTimes{};
@@ -75,6 +75,19 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out)
   s.classifier.classify(s.grid, s.features, params_, s.thresholds, s.labels);
   s.inter_ring.refine(s.grid, s.features, params_, s.labels);
   out.times.classification = msSince(t);
+  if (scope == Scope::GridLabels)
+  {
+    clearOutputs(out);
+    std::size_t labelled = 0;
+    for (const Label l : s.labels)
+      if (l != Label::None)
+      {
+        ++out.label_counts[static_cast<std::size_t>(l)];
+        ++labelled;
+      }
+    out.label_counts[static_cast<std::size_t>(Label::None)] = s.grid.num_input - labelled;
+    return Status::success();
+  }
   s.primitive_extractor.extract(s.grid, s.labels, params_, out.primitives);
   out.times.primitives = msSince(t);
 
