@@ -50,6 +50,10 @@ public:
     const double nan = std::numeric_limits<double>::quiet_NaN();
     add(nan, nan, nan, ring);
   }
+  /// Overwrites point i's time field (float32 seconds).
+  void setTime(std::size_t i, float time) { std::memcpy(data_.data() + i * step_ + rest_ + 6, &time, 4); }
+  /// Overwrites point i's time field with a uint32 (read it as such: view.time.type = UInt32).
+  void setTimeUInt32(std::size_t i, std::uint32_t time) { std::memcpy(data_.data() + i * step_ + rest_ + 6, &time, 4); }
   std::size_t size() const { return data_.size() / step_; }
   std::uint32_t pointStep() const { return step_; }
   std::vector<std::uint8_t>& bytes() { return data_; }
