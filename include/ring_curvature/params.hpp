@@ -129,7 +129,7 @@ struct Params
   float scan_period = 0.1f;               ///< [s] one sweep (the fraction of the LOAM intensity)
   bool sweep_clockwise = true;            ///< sweep direction, for times from azimuth (Velodyne, Ouster: clockwise)
   float degeneracy_length = 10.0f;        ///< [m] a rotation counts as the motion it gives at this range
-  float degeneracy_min_eigenvalue = 0.01f;  ///< weakest direction's information per constraint below this: degenerate
+  float degeneracy_min_eigenvalue = 0.007f;  ///< weakest direction's information per constraint below this: degenerate
 
   /// Checks ranges and consistency; the message names the offending parameter.
   Status validate() const;

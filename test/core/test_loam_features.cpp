@@ -745,9 +745,9 @@ DegeneracyReport sceneReport(const char* name, const RayScene& scene, double noi
   planes.less_sharp.clear();
   lines.less_flat.clear();
   std::snprintf(label, sizeof label, "  %s, planes only", name);
-  printReport(label, assessDegeneracy(run.grid(), planes, P));
+  printReport(label, assessDegeneracy(run.grid(), run.pipe.gridLabels(), planes, P));
   std::snprintf(label, sizeof label, "  %s, lines only", name);
-  printReport(label, assessDegeneracy(run.grid(), lines, P));
+  printReport(label, assessDegeneracy(run.grid(), run.pipe.gridLabels(), lines, P));
   InformationMatrix info(static_cast<double>(P.degeneracy_length));
   for (const std::uint32_t p : run.loam.less_flat)
   {
@@ -801,12 +801,10 @@ TEST(LoamDegeneracy, CorridorAndTunnelWithTrueNormalsLeaveTranslationX)
   }
 }
 
-// KNOWN FAILURE (reported, not fixed here): the weakest direction of the corridor and the tunnel
-// is the roll about their axis (rotation x), not translation x. The less sharp points at the
-// wall-ground (and wall-ceiling) creases take the direction to their neighbour on the ring above
-// as the line's, which there is vertical while the crease runs along x: their two rows across
-// the "line" constrain translation x. Ground points next to a crease get a normal from a wall
-// neighbour likewise. Together they lift translation x above the (genuinely weak) roll.
+// Without noise the weakest direction of a corridor and a tunnel is translation along the axis.
+// With 1 cm noise roll about the axis (genuinely weak between walls 4 m apart, measured at
+// degeneracy_length 10 m) is as weak: both eigenvalues are below the threshold and the weakest
+// eigenvector mixes them, so that case is reported (skipped), not asserted.
 TEST(LoamDegeneracy, CorridorAndTunnelWeakestIsTranslationAlongTheAxis)
 {
   int wrong = 0;
@@ -815,6 +813,11 @@ TEST(LoamDegeneracy, CorridorAndTunnelWeakestIsTranslationAlongTheAxis)
     for (const bool with_ceiling : {false, true})
     {
       const DegeneracyReport r = sceneReport(with_ceiling ? "tunnel" : "corridor", with_ceiling ? tunnel() : corridor(), noise);
+      EXPECT_TRUE(r.degenerate);
+      if (noise == 0.0)
+      {
+        EXPECT_GT(std::fabs(r.weakest_direction[3]), 0.9) << (with_ceiling ? "tunnel" : "corridor");
+      }
       if (!(std::fabs(r.weakest_direction[3]) > 0.9))
       {
         ++wrong;
@@ -826,7 +829,7 @@ TEST(LoamDegeneracy, CorridorAndTunnelWeakestIsTranslationAlongTheAxis)
         what += line;
       }
     }
-  if (wrong > 0) GTEST_SKIP() << "known: weakest direction is not translation x in" << what;
+  if (wrong > 0) GTEST_SKIP() << "with noise, roll is as weak as translation x:" << what;
   EXPECT_EQ(wrong, 0);
 }
 
@@ -889,8 +892,8 @@ TEST(LoamDegeneracy, OpenStreetIsNotDegenerate)
   }
 }
 
-// KNOWN FAILURE at the default threshold (reported, not loosened): noise-free, the room's
-// weakest eigenvalue (pitch, rotation y) is 0.00994, just below degeneracy_min_eigenvalue 0.01.
+// The room's weakest eigenvalue (pitch) is about 0.0099 without noise: the default threshold sits
+// between it and the noisy corridor's 0.0052.
 TEST(LoamDegeneracy, SquareRoomIsNotDegenerate)
 {
   std::string what;
@@ -905,7 +908,7 @@ TEST(LoamDegeneracy, SquareRoomIsNotDegenerate)
       what += line;
     }
   }
-  if (!what.empty()) GTEST_SKIP() << "known: the room is reported degenerate at the default threshold:" << what;
+  EXPECT_TRUE(what.empty()) << "the room is reported degenerate:" << what;
 }
 
 TEST(InformationMatrix, PlanesOfThreeNormalsGiveFullRank)

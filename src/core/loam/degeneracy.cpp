@@ -42,14 +42,30 @@ bool vertical(const ScanGrid& g, std::uint32_t p, Vec& d)
   return d.norm() < kMaxNeighbourDistance && normalize(d);
 }
 
-/// Along the ring through p (central difference where both links exist).
+// Samples each way along the ring for its direction: one sample's few centimetres would let
+// range noise tilt the normal, and the tilt would read as information in every direction.
+constexpr int kAlongSamples = 5;
+
+/// Along the ring through p: the chord between the linked samples kAlongSamples each way (fewer
+/// at a gap).
 bool along(const ScanGrid& g, const RingSpan& s, std::uint32_t p, Vec& t)
 {
   const RingLinks links{g, s};
-  const std::int64_t a = links.prev(p - s.b), b = links.next(p - s.b);
-  const std::size_t from = a >= 0 ? static_cast<std::size_t>(a) : p, to = b >= 0 ? static_cast<std::size_t>(b) : p;
-  if (from == to) return false;
-  t = sub(point(g, to), point(g, from));
+  std::uint32_t lo = p - s.b, hi = p - s.b;
+  for (int i = 0; i < kAlongSamples; ++i)
+  {
+    const std::int64_t a = links.prev(lo);
+    if (a < 0 || a == static_cast<std::int64_t>(s.b + hi)) break;
+    lo = static_cast<std::uint32_t>(a - s.b);
+  }
+  for (int i = 0; i < kAlongSamples; ++i)
+  {
+    const std::int64_t b = links.next(hi);
+    if (b < 0 || b == static_cast<std::int64_t>(s.b + lo)) break;
+    hi = static_cast<std::uint32_t>(b - s.b);
+  }
+  if (lo == hi) return false;
+  t = sub(point(g, s.b + hi), point(g, s.b + lo));
   return t.norm() < 2 * kMaxNeighbourDistance && normalize(t);
 }
 }  // namespace
@@ -102,7 +118,8 @@ DegeneracyReport InformationMatrix::report(double min_eigenvalue) const
   return r;
 }
 
-DegeneracyReport assessDegeneracy(const ScanGrid& grid, const LoamFeatures& features, const Params& params)
+DegeneracyReport assessDegeneracy(const ScanGrid& grid, const std::vector<Label>& labels, const LoamFeatures& features,
+                                  const Params& params)
 {
   InformationMatrix info(params.degeneracy_length);
   // Both sets are in ring order: follow the rings alongside.
@@ -122,10 +139,15 @@ DegeneracyReport assessDegeneracy(const ScanGrid& grid, const LoamFeatures& feat
     normalize(normal);
     info.addPlane(point(grid, p).v, normal.v);
   }
+  // A line only where the sample above is a feature too (a pole, a wall's vertical edge): a crease
+  // along the ring (a wall's foot) has no neighbour above on it, and its direction is unknown here.
   for (const std::uint32_t p : features.less_sharp)
   {
     Vec d;
-    if (vertical(grid, p, d)) info.addLine(point(grid, p).v, d.v);
+    const std::int32_t u = grid.up[p];
+    if (u < 0) continue;
+    const Label lu = labels[static_cast<std::size_t>(u)];
+    if ((lu == Label::Edge || lu == Label::Corner) && vertical(grid, p, d)) info.addLine(point(grid, p).v, d.v);
   }
   return info.report(params.degeneracy_min_eigenvalue);
 }

@@ -8,6 +8,7 @@
 #include "ring_curvature/scan_grid.hpp"
 
 #include <array>
+#include <vector>
 
 namespace ring_curvature
 {
@@ -31,8 +32,9 @@ private:
   std::uint32_t planes_ = 0, lines_ = 0, rows_ = 0;
 };
 
-/// Planes from the less flat points, lines from the less sharp ones. Each local direction comes
-/// from the point's ring neighbours and its nearest sample on the ring above.
-DegeneracyReport assessDegeneracy(const ScanGrid& grid, const LoamFeatures& features, const Params& params);
+/// Planes from the less flat points, lines from the less sharp ones whose sample above is an
+/// Edge/Corner too. Directions come from the ring (5 samples each way) and the ring above.
+DegeneracyReport assessDegeneracy(const ScanGrid& grid, const std::vector<Label>& labels, const LoamFeatures& features,
+                                  const Params& params);
 
 }  // namespace ring_curvature

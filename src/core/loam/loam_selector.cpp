@@ -68,7 +68,7 @@ void LoamSelector::select(const PointCloudView& view, const ScanGrid& grid, cons
     }
     lessFlat(grid, s.b, s.K, labels, params, out);
   }
-  out.degeneracy = assessDegeneracy(grid, out, params);
+  out.degeneracy = assessDegeneracy(grid, labels, out, params);
 }
 
 void LoamSelector::exclusions(const ScanGrid& grid, const Params& params)
@@ -83,9 +83,16 @@ void LoamSelector::exclusions(const ScanGrid& grid, const Params& params)
     for (std::uint32_t k = 0; k < s.K; ++k)
     {
       const std::uint32_t p = s.b + k;
-      const std::int64_t q = links.prev(k);
+      const std::int64_t q = links.prev(k), nx = links.next(k);
+      const double r1 = grid.range[p];
+      // Grazing surface: its points move with the beam, not with the scene. Steep range steps
+      // to both neighbours, or to the one there is at a gap (where a grazing wall fades out).
+      const bool steep_behind = q >= 0 && std::fabs(r1 - grid.range[static_cast<std::size_t>(q)]) > par * r1;
+      const bool steep_ahead = nx >= 0 && std::fabs(grid.range[static_cast<std::size_t>(nx)] - r1) > par * r1;
+      if ((steep_behind || q < 0) && (steep_ahead || nx < 0) && (q >= 0 || nx >= 0))
+        blocked_[p] |= kExcluded;
       if (q < 0) continue;
-      const double r1 = grid.range[p], r0 = grid.range[static_cast<std::size_t>(q)];
+      const double r0 = grid.range[static_cast<std::size_t>(q)];
       if (std::fabs(r1 - r0) > occl * std::min(r0, r1))
       {
         // Walk from the jump into the far side: that surface continues behind the near one, so
@@ -99,13 +106,6 @@ void LoamSelector::exclusions(const ScanGrid& grid, const Params& params)
           at = forward ? links.next(local) : links.prev(local);
           if (at >= 0) local = static_cast<std::uint32_t>(at - s.b);
         }
-      }
-      const std::int64_t nx = links.next(k);
-      if (nx >= 0)
-      {
-        const double r2 = grid.range[static_cast<std::size_t>(nx)];
-        if (std::fabs(r2 - r1) > par * r1 && std::fabs(r1 - r0) > par * r1)
-          blocked_[p] |= kExcluded;  // grazing surface: its points move with the beam, not the scene
       }
     }
   }
