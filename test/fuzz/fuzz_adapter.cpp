@@ -41,5 +41,17 @@ void ring_curvature::fuzz::fuzzAdapter(const Input& in, const Params& params)
           "labelled cloud's data matches its row_step");
   require(out.primitives && out.primitives->primitives.size() == processor.summary().primitives,
           "one primitive message per primitive");
+
+  // The same frame with only the LOAM outputs wanted (the pipeline stops at the grid's labels).
+  OutputSelection loam;
+  loam.labelled = loam.primitives = loam.edges = loam.planes = loam.markers = false;
+  loam.loam_cloud = loam.sharp = loam.less_sharp = loam.flat = loam.less_flat = true;
+  Outputs lo;
+  require(processor.process(msg, lo, loam).ok, "a frame accepted with every output is accepted with the LOAM ones");
+  require(!lo.labelled && lo.loam_cloud && lo.sharp && lo.less_sharp && lo.flat && lo.less_flat, "LOAM outputs only");
+  require(lo.loam_cloud->width <= n, "the LOAM cloud holds at most the input's points");
+  for (const auto* c : {lo.loam_cloud.get(), lo.sharp.get(), lo.less_sharp.get(), lo.flat.get(), lo.less_flat.get()})
+    require(c->data.size() == static_cast<std::size_t>(c->width) * c->point_step, "LOAM cloud's data matches its width");
+  require(lo.sharp->width <= lo.less_sharp->width && lo.flat->width <= lo.less_flat->width, "sharp within less sharp, flat within less flat");
 }
 

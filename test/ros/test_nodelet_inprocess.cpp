@@ -8,7 +8,11 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <boost/make_shared.hpp>
+#include <array>
+#include <cmath>
+#include <cstring>
 #include <functional>
+#include <set>
 #include <mutex>
 
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
@@ -281,6 +285,95 @@ TEST(NodeletInProcess, RingTypesReorderedFieldsAndABadFrame)
   ++expected;
   ASSERT_TRUE(waitUntil([&] { return out.complete(expected); })) << "good frame after a bad one";
   EXPECT_EQ(expected, rc->stats().frames_processed);
+}
+
+// The LOAM outputs: A-LOAM's point layout, sorted by ring, intensity = ring + sweep time, the
+// sharp set inside the less sharp one and the flat inside the less flat, counts and the
+// degeneracy report on ~frame_stats.
+TEST(NodeletInProcess, LoamOutputsSortedByRingWithSweepTimes)
+{
+  Manager m;
+  auto rc = m.load("/rc_loam", "/input_loam");
+  ASSERT_TRUE(rc);
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<PointCloud2>("/input_loam", 1);
+  const char* names[5] = {"cloud", "sharp", "less_sharp", "flat", "less_flat"};
+  std::mutex mutex;
+  std::vector<PointCloud2::ConstPtr> got[5];
+  std::vector<ring_curvature::FrameStats::ConstPtr> stats;
+  std::vector<ros::Subscriber> subs;
+  for (int i = 0; i < 5; ++i)
+    subs.push_back(nh.subscribe<PointCloud2>(std::string("/rc_loam/loam/") + names[i], 10,
+                                             [&, i](const PointCloud2::ConstPtr& c) {
+                                               std::lock_guard<std::mutex> l(mutex);
+                                               got[i].push_back(c);
+                                             }));
+  subs.push_back(nh.subscribe<ring_curvature::FrameStats>("/rc_loam/frame_stats", 10,
+                                                          [&](const ring_curvature::FrameStats::ConstPtr& st) {
+                                                            std::lock_guard<std::mutex> l(mutex);
+                                                            stats.push_back(st);
+                                                          }));
+  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0; }));
+  pub.publish(copyOf(*frames()[0]));
+  ASSERT_TRUE(waitUntil([&] {
+    std::lock_guard<std::mutex> l(mutex);
+    for (const auto& g : got)
+      if (g.empty()) return false;
+    return !stats.empty();
+  }));
+  std::lock_guard<std::mutex> l(mutex);
+  const std::size_t input_points = static_cast<std::size_t>(frames()[0]->width) * frames()[0]->height;
+  std::vector<std::set<std::array<float, 4>>> sets(5);
+  for (int i = 0; i < 5; ++i)
+  {
+    const PointCloud2& c = *got[i].back();
+    SCOPED_TRACE(names[i]);
+    EXPECT_EQ(c.header.stamp, frames()[0]->header.stamp);
+    ASSERT_EQ(4u, c.fields.size());
+    EXPECT_EQ("x", c.fields[0].name);
+    EXPECT_EQ(0u, c.fields[0].offset);
+    EXPECT_EQ("intensity", c.fields[3].name);
+    EXPECT_EQ(16u, c.fields[3].offset);
+    ASSERT_EQ(32u, c.point_step);
+    ASSERT_EQ(c.data.size(), static_cast<std::size_t>(c.width) * 32u);
+    EXPECT_GT(c.width, 0u);
+    EXPECT_LE(c.width, input_points);
+    int last_ring = -1;
+    float latest = 0.0f;
+    for (std::uint32_t k = 0; k < c.width; ++k)
+    {
+      float rec[5];
+      std::memcpy(rec, &c.data[k * 32u], 12);
+      std::memcpy(&rec[3], &c.data[k * 32u + 16u], 4);
+      const int ring = static_cast<int>(std::floor(rec[3]));
+      const float t = rec[3] - static_cast<float>(ring);
+      ASSERT_GE(ring, last_ring) << "not sorted by ring at point " << k;
+      ASSERT_LT(ring, 16);
+      ASSERT_GE(t, 0.0f);
+      ASSERT_LE(t, 0.1f + 1e-5f);  // scan_period
+      latest = std::max(latest, t);
+      last_ring = ring;
+      sets[static_cast<std::size_t>(i)].insert({rec[0], rec[1], rec[2], rec[3]});
+    }
+    if (i == 0)
+    {
+      EXPECT_GT(latest, 0.09f) << "a whole sweep spans the scan period";
+    }
+  }
+  for (const auto& p : sets[1]) EXPECT_EQ(1u, sets[2].count(p)) << "sharp point not in less sharp";
+  for (const auto& p : sets[3]) EXPECT_EQ(1u, sets[4].count(p)) << "flat point not in less flat";
+  for (const auto& p : sets[4]) EXPECT_EQ(0u, sets[2].count(p)) << "a point both less flat and less sharp";
+  const auto& st = *stats.back();
+  EXPECT_TRUE(st.loam);
+  EXPECT_EQ(st.sharp, got[1].back()->width);
+  EXPECT_EQ(st.less_sharp, got[2].back()->width);
+  EXPECT_EQ(st.flat, got[3].back()->width);
+  EXPECT_EQ(st.less_flat, got[4].back()->width);
+  EXPECT_GT(st.plane_constraints, 0u);
+  for (std::size_t k = 1; k < 6; ++k) EXPECT_LE(st.degeneracy_eigenvalues[k - 1], st.degeneracy_eigenvalues[k]);
+  double norm = 0;
+  for (const double v : st.weakest_direction) norm += v * v;
+  EXPECT_NEAR(1.0, norm, 1e-6);
 }
 
 TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)
