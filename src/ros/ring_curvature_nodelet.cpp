@@ -147,7 +147,6 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
     select.less_sharp = pub_less_sharp_.getNumSubscribers() > 0;
     select.flat = pub_flat_.getNumSubscribers() > 0;
     select.less_flat = pub_less_flat_.getNumSubscribers() > 0;
-    select.loam_report = pub_stats_.getNumSubscribers() > 0;  // the stats carry the degeneracy report
 
     Outputs out;
     Status s;

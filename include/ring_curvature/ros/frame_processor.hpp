@@ -26,7 +26,7 @@ struct OutputSelection
   bool labelled = true, primitives = true, edges = true, planes = true, markers = true;
   /// LOAM sets (~loam/*): every kept point, sharp, less sharp, flat, less flat.
   bool loam_cloud = false, sharp = false, less_sharp = false, flat = false, less_flat = false;
-  /// Choose the LOAM sets and assess degeneracy even if none of them is published.
+  /// Choose the LOAM sets and assess degeneracy even if none of them is published (tools).
   bool loam_report = false;
   bool anyLoam() const { return loam_cloud || sharp || less_sharp || flat || less_flat || loam_report; }
 };

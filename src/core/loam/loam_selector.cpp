@@ -140,7 +140,10 @@ void LoamSelector::pick(const ScanGrid& grid, const RingSpan& s, std::vector<Can
   const auto less = [](const Candidate& a, const Candidate& b) { return a.score < b.score || (a.score == b.score && a.pos < b.pos); };
   // Each pick blocks at most 2 * suppression others, so the best quota * (2s + 1) suffice.
   const std::size_t need = std::min(cand.size(), static_cast<std::size_t>(quota) * (2 * static_cast<std::size_t>(suppression) + 1));
-  std::partial_sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(need), cand.end(), less);
+  // The best `need` in linear time, then only those sorted.
+  const auto mid = cand.begin() + static_cast<std::ptrdiff_t>(need);
+  if (need < cand.size()) std::nth_element(cand.begin(), mid, cand.end(), less);
+  std::sort(cand.begin(), mid, less);
   int taken = 0;
   for (std::size_t i = 0; i < need && taken < quota; ++i)
   {
@@ -167,13 +170,20 @@ void LoamSelector::lessFlat(const ScanGrid& grid, std::uint32_t b, std::uint32_t
   // One point per voxel, the flat ones first so that the less flat set holds them (LOAM's
   // odometry matches the flat points of one frame to the less flat of the last).
   std::size_t cap = 16;
-  while (cap < 2 * static_cast<std::size_t>(K)) cap <<= 1;
+  int bits = 4;
+  while (cap < 2 * static_cast<std::size_t>(K))
+  {
+    cap <<= 1;
+    ++bits;
+  }
   if (voxel_keys_.size() < cap) voxel_keys_.assign(cap, kNoKey);
   const std::size_t mask = cap - 1;
   const double inv = 1.0 / voxel;
   const auto insert = [&](std::uint32_t p) {
     const std::uint64_t key = voxelKey(grid.x[p], grid.y[p], grid.z[p], inv);
-    std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    // Fibonacci hashing: the product's top bits depend on every bit of the key (its low bits
+    // would ignore x, and a ring's voxels would pile up in probe chains).
+    std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits));
     while (voxel_keys_[h] != kNoKey)
     {
       if (voxel_keys_[h] == key) return false;
