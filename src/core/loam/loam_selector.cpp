@@ -212,10 +212,13 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
   const double period = params.scan_period;
   if (view.time.present() && n > 0)
   {
+    // One read of each point's time (in grid order the records are scattered over the input).
+    time_scratch_.resize(n);
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::size_t p = 0; p < n; ++p)
     {
       const double t = readScalar(view.record(grid.index[p]) + view.time.offset, view.time.type);
+      time_scratch_[p] = t;
       lo = std::min(lo, t);
       hi = std::max(hi, t);
     }
@@ -224,7 +227,7 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
     {
       for (std::size_t p = 0; p < n; ++p)
       {
-        const double t = (readScalar(view.record(grid.index[p]) + view.time.offset, view.time.type) - lo) * view.time_scale;
+        const double t = (time_scratch_[p] - lo) * view.time_scale;
         out.sweep_time[p] = static_cast<float>(std::min(std::max(t, 0.0), period));
       }
       out.time_from_field = true;

@@ -46,6 +46,7 @@ private:
   std::vector<Candidate> sharp_, flat_;
   std::vector<std::uint64_t> voxel_keys_;  // open-addressing set, one ring at a time
   std::vector<std::uint32_t> voxel_used_;
+  std::vector<double> time_scratch_;
 };
 
 }  // namespace ring_curvature
