@@ -139,6 +139,7 @@ void LoamSelector::pick(const ScanGrid& grid, const RingSpan& s, std::vector<Can
   if (quota <= 0 || cand.empty()) return;
   const auto less = [](const Candidate& a, const Candidate& b) { return a.score < b.score || (a.score == b.score && a.pos < b.pos); };
   // Each pick blocks at most 2 * suppression others, so the best quota * (2s + 1) suffice.
+  // (Less sharp picks that block nothing only make that more than enough.)
   const std::size_t need = std::min(cand.size(), static_cast<std::size_t>(quota) * (2 * static_cast<std::size_t>(suppression) + 1));
   // The best `need` in linear time, then only those sorted.
   const auto mid = cand.begin() + static_cast<std::ptrdiff_t>(need);
@@ -150,10 +151,13 @@ void LoamSelector::pick(const ScanGrid& grid, const RingSpan& s, std::vector<Can
     const std::uint32_t p = cand[i].pos;
     if (blocked_[p]) continue;
     out.push_back(p);
+    // Only the points odometry matches (sharp, flat) keep their neighbours out; the less sharp
+    // ones beyond them are map landmarks, and every Edge/Corner is one.
+    const bool matched = !also || taken < also_quota;
     if (also && taken < also_quota) also->push_back(p);
     ++taken;
     blocked_[p] |= kSuppressed;
-    block(grid, s, p - s.b, suppression);
+    if (matched) block(grid, s, p - s.b, suppression);
   }
 }
 
