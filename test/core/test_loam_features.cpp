@@ -316,24 +316,30 @@ TEST(LoamFeatures, NoRoughPointInAnySet)
 void checkSuppression(const LoamRun& run, const LoamFeatures& L, int suppression)
 {
   const ScanGrid& g = run.grid();
-  // Sharp points are chosen first and block their neighbours for the flat ones too, so no two
-  // chosen points (less sharp or flat) lie within `suppression` linked samples of each other.
-  std::set<std::uint32_t> chosen(L.less_sharp.begin(), L.less_sharp.end());
-  chosen.insert(L.flat.begin(), L.flat.end());
+  // The points odometry matches block their neighbours: a sharp point keeps every later pick
+  // (less sharp or flat) out of its `suppression` linked samples, and a flat one the other flat
+  // ones. Less sharp points beyond the sharp ones block nothing (every Edge/Corner is a landmark).
+  const std::set<std::uint32_t> sharp(L.sharp.begin(), L.sharp.end()), flat(L.flat.begin(), L.flat.end());
+  std::set<std::uint32_t> later(L.less_sharp.begin(), L.less_sharp.end());
+  later.insert(L.flat.begin(), L.flat.end());
   int pairs = 0;
-  for (const std::uint32_t p : chosen)
-    for (int dir = -1; dir <= 1; dir += 2)
-      for (int i = 1; i <= suppression; ++i)
-      {
-        const std::int64_t q = walk(g, p, dir, i);
-        if (q < 0) break;
-        if (chosen.count(static_cast<std::uint32_t>(q)))
+  const auto check = [&](const std::set<std::uint32_t>& from, const std::set<std::uint32_t>& others, const char* what) {
+    for (const std::uint32_t p : from)
+      for (int dir = -1; dir <= 1; dir += 2)
+        for (int i = 1; i <= suppression; ++i)
         {
-          ++pairs;
-          ADD_FAILURE() << "positions " << p << " and " << q << " (ring " << g.ringOf(p) << ") are " << i
-                        << " linked samples apart, suppression " << suppression;
+          const std::int64_t q = walk(g, p, dir, i);
+          if (q < 0) break;
+          if (others.count(static_cast<std::uint32_t>(q)))
+          {
+            ++pairs;
+            ADD_FAILURE() << what << ": positions " << p << " and " << q << " (ring " << g.ringOf(p) << ") are " << i
+                          << " linked samples apart, suppression " << suppression;
+          }
         }
-      }
+  };
+  check(sharp, later, "sharp next to a later pick");
+  check(flat, flat, "two flat points");
   EXPECT_EQ(pairs, 0);
 }
 
