@@ -62,4 +62,18 @@ struct ScanGrid
   int ringOf(std::uint32_t pos) const;
 };
 
+/// The ring of grid positions visited ring by ring (as the LOAM sets list them), in O(1)
+/// amortized; a position before the current ring starts a new pass from ring 0.
+struct RingCursor
+{
+  const ScanGrid& grid;
+  int n = 0;
+  int operator()(std::uint32_t p)
+  {
+    if (p < grid.ring_begin[static_cast<std::size_t>(n)]) n = 0;
+    while (p >= grid.ring_begin[static_cast<std::size_t>(n) + 1]) ++n;
+    return n;
+  }
+};
+
 }  // namespace ring_curvature

@@ -20,20 +20,6 @@ sensor_msgs::PointField floatField(const char* name, std::uint32_t offset)
   f.count = 1;
   return f;
 }
-
-/// The ring of each position, for positions that come ring by ring (a position below the
-/// current ring's start means a new pass: start again).
-struct RingWalk
-{
-  const ScanGrid& g;
-  int n = 0;
-  int operator()(std::uint32_t p)
-  {
-    if (p < g.ring_begin[static_cast<std::size_t>(n)]) n = 0;
-    while (p >= g.ring_begin[static_cast<std::size_t>(n) + 1]) ++n;
-    return n;
-  }
-};
 }  // namespace
 
 sensor_msgs::PointCloud2Ptr makeLoamCloud(const sensor_msgs::PointCloud2& input, const ScanGrid& grid,
@@ -68,7 +54,7 @@ sensor_msgs::PointCloud2Ptr makeLoamCloud(const sensor_msgs::PointCloud2& input,
   out->point_step = kXyziPointStep;
   out->row_step = static_cast<std::uint32_t>(n * kXyziPointStep);
   out->data.resize(n * kXyziPointStep);
-  RingWalk ring{grid};
+  RingCursor ring{grid};
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::uint32_t p = at(i);

@@ -124,12 +124,7 @@ DegeneracyReport assessDegeneracy(const ScanGrid& grid, const std::vector<Label>
 {
   InformationMatrix info(params.degeneracy_length);
   // Both sets are in ring order: follow the rings alongside.
-  int n = 0;
-  const auto ringOf = [&](std::uint32_t p) {
-    if (p < grid.ring_begin[static_cast<std::size_t>(n)]) n = 0;
-    while (p >= grid.ring_begin[static_cast<std::size_t>(n) + 1]) ++n;
-    return n;
-  };
+  RingCursor ringOf{grid};
   // The matrix is an average over constraints: a few thousand planes estimate it as well as
   // the 30k of a 64-beam frame, at a fraction of the cost.
   const std::size_t stride = features.less_flat.size() / kMaxPlanes + 1;
