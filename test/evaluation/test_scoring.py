@@ -81,6 +81,54 @@ class RunScoring(unittest.TestCase):
         self.assertEqual((c["gt_tp"], c["gt_fn"], c["pred_fp"]), (0, 1, 1))
 
 
+class JumpsAndThinObjects(unittest.TestCase):
+    """Issue 29's definitions: only the near side of a depth jump is a Corner (the far side is
+    the occluder's shadow), and a thin object is found by an Edge or a Corner."""
+
+    def cloud(self, far_from=None):
+        cols, ring, x, y = ring_cloud()
+        if far_from is not None:  # columns >= far_from lie 5 m behind the others
+            s = np.where(cols >= far_from, 1.5, 1.0)
+            x, y = x * s, y * s
+        return cols, ring, x, y
+
+    def test_corner_on_the_far_side_only_is_false(self):
+        cols, ring, x, y = self.cloud(far_from=21)
+        gt = np.ones(len(cols), np.uint8)
+        gt[cols == 20] = 3  # near side; 21 is its shadow (planar)
+        for pred, expect in ((21, (0, 1, 0, 1)), (20, (1, 0, 1, 0)), (19, (1, 0, 1, 0))):
+            lab = np.ones(len(cols), np.uint8)
+            lab[cols == pred] = 3
+            c = score(lab, gt, ring, x, y)["Corner"]
+            self.assertEqual((c["gt_tp"], c["gt_fn"], c["pred_tp"], c["pred_fp"]), expect, pred)
+
+    def test_same_range_neighbour_is_within_tolerance(self):
+        # without a range step the one-sample tolerance holds on both sides, as before
+        c = RunScoring().run_case([20], [21], gt_class=3, label=3)["Corner"]
+        self.assertEqual((c["gt_tp"], c["pred_fp"]), (1, 0))
+
+    def test_thin_found_by_edge_or_corner(self):
+        cols, ring, x, y = self.cloud()
+        gt = np.ones(len(cols), np.uint8)
+        gt[np.isin(cols, [40, 41, 42])] = 6
+        for label in (2, 3):
+            lab = np.ones(len(cols), np.uint8)
+            lab[cols == 41] = label
+            c = score(lab, gt, ring, x, y)
+            self.assertEqual((c["Thin"]["gt_tp"], c["Edge"]["gt_tp"], c["Feature"]["gt_tp"]), (1, 1, 1))
+            name = "Edge" if label == 2 else "Corner"
+            self.assertEqual((c[name]["pred_tp"], c[name]["pred_fp"]), (1, 0))
+            self.assertEqual(c["Corner"]["gt_tp"] + c["Corner"]["gt_fn"], 0)  # thin is not Corner's
+            self.assertEqual(rates(c["Thin"])[0], None)
+
+    def test_plane_on_thin_is_wrong(self):
+        cols, ring, x, y = self.cloud()
+        gt = np.ones(len(cols), np.uint8)
+        gt[np.isin(cols, [40, 41, 42])] = 6
+        c = score(np.ones(len(cols), np.uint8), gt, ring, x, y)
+        self.assertEqual((c["Plane"]["pred_fp"], c["Thin"]["gt_fn"], c["Edge"]["gt_fn"]), (3, 1, 1))
+
+
 class PointScoring(unittest.TestCase):
     def test_plane_and_rough(self):
         cols, ring, x, y = ring_cloud()

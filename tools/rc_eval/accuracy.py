@@ -6,7 +6,7 @@ import numpy as np
 from .runner import labelled_frames, run_method
 from .scoring import add, rates, score
 
-CLASSES = ("Plane", "Edge", "Corner", "Rough", "Feature")
+CLASSES = ("Plane", "Edge", "Corner", "Rough", "Feature", "Thin")
 
 
 def score_bag(labelled_bag):

@@ -1,26 +1,36 @@
 """Simulates one rotating-LiDAR sweep through a scene, with per-point ground truth.
 
-Ground-truth classes (field `gt`):
+Ground-truth classes (field `gt`), following issue 29's definitions:
   0 unknown    solid samples next to vegetation along the ring (whether that is a depth jump
                depends on where a leaf happened to be hit), and other ambiguous transitions
-  1 planar     a planar face (ground, pavement, box faces, ramps, cap of a pole)
+  1 planar     a planar face (ground, pavement, box faces, ramps)
   2 crease     the two samples on either side of a fold between two faces, when the surface is
                continuous across the fold and the faces meet at >= crease_min_angle_deg
-  3 depth jump the two samples on either side of a range discontinuity along the ring
-  4 vegetation a return from inside a vegetation volume
-  5 curved     smooth curved surface (pole and trunk sides, car cabins)
+  3 depth jump the near (occluding) sample of a range discontinuity along the ring; the far
+               sample is the shadow of the occluder and keeps the class of its own surface
+               (planar, curved, ...), so a Corner there is a false positive (LOAM drops it too)
+  4 vegetation a return from inside a vegetation volume (crown, bush, hedge)
+  5 curved     smooth curved surface that is not thin (car cabins, cylinders wider than
+               raycast.THIN_MAX_WIDTH)
+  6 thin       every sample on a thin object: poles, trunks, sign posts (cylinders at most
+               THIN_MAX_WIDTH across) and sign plates; seen as narrow runs bounded by depth jumps,
+               stacked over rings, they are features (Edge or Corner), not Plane. Thin takes
+               precedence over crease and jump on the object itself (its silhouette samples are
+               thin, not depth jump); a thin sample beside vegetation stays unknown.
 
 Transitions are found exactly, not by thresholds on range: for two neighbouring samples on
 different surfaces, the ray is swept between them (bisection on the interpolated ray) to the
 point where the hit surface changes; if the hit points just before and after it coincide, the
-surface is continuous there (a fold), otherwise it is a depth jump.
+surface is continuous there (a fold), otherwise it is a depth jump, whose near side is the
+surface hit at the smaller range just either side of that point.
 """
 import numpy as np
 
 from .raycast import CURVED, PLANAR, VEGETATION, cast, rot_z
 
-GT_UNKNOWN, GT_PLANAR, GT_CREASE, GT_JUMP, GT_VEGETATION, GT_CURVED = 0, 1, 2, 3, 4, 5
-GT_NAMES = {0: "unknown", 1: "planar", 2: "crease", 3: "depth_jump", 4: "vegetation", 5: "curved"}
+GT_UNKNOWN, GT_PLANAR, GT_CREASE, GT_JUMP, GT_VEGETATION, GT_CURVED, GT_THIN = 0, 1, 2, 3, 4, 5, 6
+GT_NAMES = {0: "unknown", 1: "planar", 2: "crease", 3: "depth_jump", 4: "vegetation", 5: "curved",
+            6: "thin"}
 BISECTION_STEPS = 24
 
 
@@ -68,13 +78,18 @@ def simulate_frame(sensor, shapes, frame_index, noise_sigma, dropout, velocity, 
     change = va & vb & solid_a & solid_b & ((shp[:, a_idx] != shp[:, b_idx]) | (face[:, a_idx] != face[:, b_idx]))
     rows, cols = np.nonzero(change)
     cols_b = b_idx[cols]
-    crease, jump, unknown = _classify_transitions(
+    crease, jump, unknown, near_a = _classify_transitions(
         shapes, sensor, rows, cols, cols_b, az, elev, t_abs, velocity, yaw_rate,
         (shp[rows, cols], face[rows, cols]), (shp[rows, cols_b], face[rows, cols_b]),
         crease_min_angle_deg, n_c)
-    for mask, cls in ((unknown, GT_UNKNOWN), (crease, GT_CREASE), (jump, GT_JUMP)):
+    for mask, cls in ((unknown, GT_UNKNOWN), (crease, GT_CREASE)):
         gt[rows[mask], cols[mask]] = cls
         gt[rows[mask], cols_b[mask]] = cls
+    # a depth jump marks its near side only; the far side keeps its surface's class
+    gt[rows[jump], np.where(near_a[jump], cols[jump], cols_b[jump])] = GT_JUMP
+    thin_shape = np.array([bool(getattr(s, "thin", False)) for s in shapes] + [False])
+    thin = valid & thin_shape[shp]  # shp == -1 (no hit) reads the trailing False
+    gt[thin & (gt != GT_UNKNOWN)] = GT_THIN
 
     rng_meas = t + rng.normal(0.0, noise_sigma, t.shape) if noise_sigma > 0 else t.copy()
     valid &= rng.random(t.shape) >= dropout
@@ -91,7 +106,7 @@ def _classify_transitions(shapes, sensor, rows, ca, cb, az, elev, t_abs, velocit
     n = len(rows)
     if n == 0:
         z = np.zeros(0, dtype=bool)
-        return z, z, z
+        return z, z, z, z
     az_a, az_b = az[rows, ca], az[rows, cb]
     az_b = np.where(cb < ca, az_b - 360.0, az_b)  # across the seam the azimuth keeps turning
     t_a, t_b = t_abs[rows, ca], t_abs[rows, cb]
@@ -110,7 +125,7 @@ def _classify_transitions(shapes, sensor, rows, ca, cb, az, elev, t_abs, velocit
         same = (sh == key_a[0]) & (fc == key_a[1])
         lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
     p_lo, _, _, n_lo, t_lo = probe(lo)
-    p_hi, sh_hi, fc_hi, n_hi, _ = probe(hi)
+    p_hi, sh_hi, fc_hi, n_hi, t_hi = probe(hi)
     gap = np.linalg.norm(p_lo - p_hi, axis=1)
     continuous = np.isfinite(gap) & (gap < 1e-3 + 1e-4 * np.nan_to_num(t_lo, posinf=0.0))
     direct = (sh_hi == key_b[0]) & (fc_hi == key_b[1])
@@ -118,7 +133,8 @@ def _classify_transitions(shapes, sensor, rows, ca, cb, az, elev, t_abs, velocit
     crease = continuous & direct & (fold >= crease_min_angle_deg)
     jump = ~continuous
     unknown = continuous & ~direct
-    return crease, jump, unknown
+    near_a = ~(np.nan_to_num(t_hi, nan=np.inf) < np.nan_to_num(t_lo, nan=np.inf))  # a's surface nearer
+    return crease, jump, unknown, near_a
 
 
 def to_point_arrays(sensor, frame):
