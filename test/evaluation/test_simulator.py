@@ -8,7 +8,7 @@ import unittest
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "tools"))
-from rc_eval.raycast import Box, Cylinder, Ellipsoid, rot_z  # noqa: E402
+from rc_eval.raycast import Box, Canopy, Cylinder, Ellipsoid, Hedge, rot_z  # noqa: E402
 from rc_eval.scene import seed_vegetation, street_scene  # noqa: E402
 from rc_eval.sensors import make_sensor  # noqa: E402
 from rc_eval.simulate import simulate_frame, to_point_arrays  # noqa: E402
@@ -42,14 +42,21 @@ class GroundTruthGeometry(unittest.TestCase):
             self.assertEqual(len(a), 2, "beam %d" % b)
             self.assertTrue(np.all(azimuth_diff(a, 0.0) < self.step), (b, a))
 
-    def test_jumps_flank_the_silhouettes(self):
-        # side corners at (10, +-1.5 sqrt 2): silhouettes at +-atan2(2.1213, 10)
+    def test_jumps_mark_the_near_side_of_the_silhouettes(self):
+        # side corners at (10, +-1.5 sqrt 2): silhouettes at +-atan2(2.1213, 10); the jump sample
+        # is the box's (near) one, the wall's sample beside it (the shadow) stays planar
         sil = np.degrees(np.arctan2(1.5 * np.sqrt(2), 10.0))
         for b in range(self.sensor.n_beams):
-            a = self.az[b][self.f["gt"][b] == 3]
-            self.assertEqual(len(a), 4, "beam %d" % b)
+            jump = self.f["gt"][b] == 3
+            a = self.az[b][jump]
+            self.assertEqual(len(a), 2, "beam %d" % b)
             near = np.minimum(azimuth_diff(a, sil), azimuth_diff(a, -sil))
             self.assertTrue(np.all(near < self.step), (b, a))
+            self.assertTrue(np.all(self.f["xyz"][b][jump][:, 0] < 11.0), b)  # on the box
+            for c in np.nonzero(jump)[0]:
+                far = [k % len(jump) for k in (c - 1, c + 1) if self.f["xyz"][b][k % len(jump), 0] > 25.0]
+                self.assertEqual(len(far), 1, (b, c))
+                self.assertEqual(self.f["gt"][b][far[0]], 1, (b, c))
 
     def test_everything_else_is_planar(self):
         g = self.f["gt"][self.f["valid"]]
@@ -64,7 +71,7 @@ class GroundTruthGeometry(unittest.TestCase):
 
 
 class SurfaceKinds(unittest.TestCase):
-    def test_pole_is_curved_and_crown_is_vegetation(self):
+    def test_pole_is_thin_and_crown_is_vegetation(self):
         pole = Cylinder(8.0, 0.0, 0.3, -5.0, 5.0)
         crown = Ellipsoid((0.0, 8.0, 0.0), (2.0, 2.0, 3.0), density=3.0, role="tree_crown")
         s, f = run([pole, crown])
@@ -72,11 +79,62 @@ class SurfaceKinds(unittest.TestCase):
         v = f["valid"]
         pole_pts = v & (azimuth_diff(az, 0.0) < 1.0)
         crown_pts = v & (azimuth_diff(az, 90.0) < 10.0)
-        self.assertTrue(np.all(f["gt"][pole_pts] == 5))  # nothing behind: no depth jump to flank
-        self.assertGreater(np.sum(f["gt"][pole_pts] == 5), 20)
+        self.assertTrue(np.all(f["gt"][pole_pts] == 6))  # every sample of a thin object
+        self.assertGreater(np.sum(f["gt"][pole_pts] == 6), 20)
         self.assertTrue(np.all(f["gt"][crown_pts] == 4))
         r = np.linalg.norm(f["xyz"][crown_pts], axis=1)
         self.assertGreater(np.std(r), 0.2)  # returns scatter through the volume
+
+    def test_thin_pole_before_a_wall_and_a_wide_cylinder(self):
+        # a 0.2 m pole 8 m ahead before a wall: all its samples thin, its silhouettes too, the
+        # wall's samples beside it (shadow) planar; a 1.2 m wide cylinder is curved, not thin
+        pole = Cylinder(8.0, 0.0, 0.1, -5.0, 5.0)
+        drum = Cylinder(0.0, 8.0, 0.6, -5.0, 5.0)
+        wall = Box((20.0, 0.0, 0.0), (1.0, 60.0, 20.0))
+        s, f = run([pole, drum, wall])
+        az = np.degrees(np.arctan2(f["xyz"][..., 1], f["xyz"][..., 0]))
+        x = f["xyz"][..., 0]
+        v = f["valid"]
+        on_pole = v & (x < 9.0) & (azimuth_diff(az, 0.0) < 2.0)
+        self.assertTrue(np.all(f["gt"][on_pole] == 6))
+        beside = v & (x > 18.0) & (azimuth_diff(az, 0.0) < 2.0)
+        self.assertTrue(np.all(f["gt"][beside] == 1))
+        drum_pts = v & (azimuth_diff(az, 90.0) < 2.0)
+        self.assertTrue(np.all(np.isin(f["gt"][drum_pts], (3, 5))))
+        self.assertGreater(np.sum(f["gt"][drum_pts] == 5), 20)
+
+    def test_sign_plate_is_thin(self):
+        plate = Box((10.0, 0.0, 0.5), (0.3, 0.015, 0.3), rot_z(0.3), role="sign_plate", thin=True)
+        s, f = run([plate])
+        g = f["gt"][f["valid"]]
+        self.assertGreater(len(g), 3)
+        self.assertTrue(np.all(g == 6))
+
+    def test_canopy_returns_from_inside_with_gaps(self):
+        env = (2.0, 2.0, 1.8)
+        crown = Canopy((10.0, 0.0, 0.0), env, np.random.default_rng(4), clump_radius=0.35, cover=2.0, density=6.0)
+        wall = Box((20.0, 0.0, 0.0), (1.0, 60.0, 20.0))
+        s, f = run([crown, wall])
+        az = np.degrees(np.arctan2(f["xyz"][..., 1], f["xyz"][..., 0]))
+        v = f["valid"]
+        ahead = v & (azimuth_diff(az, 0.0) < 5.0) & (np.abs(f["xyz"][..., 2]) < 1.0)
+        r = np.linalg.norm(f["xyz"][ahead], axis=1)
+        veg = f["gt"][ahead] == 4
+        self.assertGreater(np.mean(veg), 0.5)
+        self.assertGreater(np.mean(r[~veg] > 18.0), 0.9)  # the rest: the wall, through gaps
+        self.assertGreater(np.sum(~veg), 5)
+        depth = r[veg] - 8.0  # below the crown's front at x = 8
+        self.assertGreater(np.percentile(depth, 90) - np.percentile(depth, 10), 0.3)  # tens of cm
+        self.assertTrue(np.all((r[veg] > 7.9) & (r[veg] < 12.1)))
+
+    def test_hedge_returns_inside_the_box(self):
+        hedge = Hedge((8.0, 0.0, -1.0), (0.4, 4.0, 0.8), density=10.0)
+        s, f = run([hedge])
+        g, p = f["gt"][f["valid"]], f["xyz"][f["valid"]]
+        self.assertTrue(np.all(g == 4))
+        self.assertGreater(len(g), 50)
+        self.assertTrue(np.all((p[:, 0] > 7.55) & (p[:, 0] < 8.45)))
+        self.assertGreater(np.std(p[:, 0] - 7.6), 0.05)
 
 
 class Layout(unittest.TestCase):

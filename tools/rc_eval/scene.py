@@ -1,10 +1,18 @@
 """Random street scenes, fully determined by a seed: ground, kerbed pavements, box buildings
-with recessed facades, cars (box body + rounded cabin), poles, an inclined ramp (a gentle and a
-steep one), trees and bushes as vegetation volumes. The sensor sits at the origin, `height`
-metres above the ground, looking along the street (+x)."""
+with recessed facades, cars (box body + rounded cabin), poles, signs (a thin post carrying a
+plate, turned at random so that some are seen edge-on), an inclined ramp (a gentle and a steep
+one), trees (a trunk rising into a crown of foliage clumps, raycast.Canopy), bushes and hedges
+(dense vegetation volumes; hedges are long boxes along the facades). The sensor sits at the
+origin, `height` metres above the ground, looking along the street (+x).
+
+Foliage returns come from inside the volumes: in a crown, from any clump (0.25-0.45 m radius) a
+ray meets in the crown's outer shell (mean free path 1 / density = 12-25 cm inside a clump), so
+the returns lie a median ~0.5 m inside the crown's envelope (10th-90th percentile ~0.1-1.5 m)
+and 10-20 % of the rays pass through gaps to the trunk or what stands behind; in bushes and
+hedges, 8-17 cm deep on average (exponential free path)."""
 import numpy as np
 
-from .raycast import Box, Cylinder, Ellipsoid, Ground, rot_y, rot_z
+from .raycast import Box, Canopy, Cylinder, Ellipsoid, Ground, Hedge, rot_y, rot_z
 
 
 def street_scene(seed, height=1.8, kind="street"):
@@ -53,18 +61,35 @@ def street_scene(seed, height=1.8, kind="street"):
         side = rng.choice((-1, 1))
         shapes.append(Cylinder(rng.uniform(-40, 40), side * (half_road + rng.uniform(0.4, 1.0)),
                                rng.uniform(0.06, 0.2), top, g + rng.uniform(3, 7)))
-    for _ in range(rng.integers(2, 5)):  # trees: trunk + crown
+    for _ in range(rng.integers(2, 5)):  # trees: trunk up into the crown's middle, clumped crown
         side = rng.choice((-1, 1))
         tx, ty = rng.uniform(-40, 40), side * (half_road + rng.uniform(1.5, 3.0))
         trunk = rng.uniform(2.0, 3.0)
-        shapes.append(Cylinder(tx, ty, rng.uniform(0.12, 0.3), top, top + trunk, role="trunk"))
         crown = rng.uniform(1.5, 2.5)
-        shapes.append(Ellipsoid((tx, ty, top + trunk + crown * 0.8), (crown, crown, crown * 0.9),
-                                density=rng.uniform(1.5, 4.0), role="tree_crown"))
+        cz = top + trunk + crown * 0.8
+        shapes.append(Cylinder(tx, ty, rng.uniform(0.12, 0.3), top, cz, role="trunk"))
+        shapes.append(Canopy((tx, ty, cz), (crown, crown, crown * 0.9), rng,
+                             clump_radius=rng.uniform(0.25, 0.45), cover=rng.uniform(1.5, 2.5),
+                             density=rng.uniform(4.0, 8.0), role="tree_crown"))
     for _ in range(rng.integers(1, 4)):  # bushes along the facades
         side = rng.choice((-1, 1))
         shapes.append(Ellipsoid((rng.uniform(-30, 30), side * (half_road + walk - 0.8), top + 0.5),
                                 (rng.uniform(1.0, 2.5), 0.8, 0.8), density=6.0, role="bush"))
+    for _ in range(rng.integers(1, 4)):  # hedges: long dense boxes of foliage along the facades
+        side = rng.choice((-1, 1))
+        half = np.array([rng.uniform(1.5, 6.0), rng.uniform(0.25, 0.5), rng.uniform(0.4, 0.8)])
+        shapes.append(Hedge((rng.uniform(-35, 35), side * (half_road + walk - half[1] - 0.1), top + half[2]),
+                            half, density=rng.uniform(8.0, 12.0)))
+    for _ in range(rng.integers(1, 4)):  # signs: a thin post carrying a plate, turned at random
+        side = rng.choice((-1, 1))
+        sx, sy = rng.uniform(-35, 35), side * (half_road + rng.uniform(0.3, 0.8))
+        post_r, post_top = rng.uniform(0.03, 0.05), top + rng.uniform(2.2, 2.8)
+        shapes.append(Cylinder(sx, sy, post_r, top, post_top, role="sign_post"))
+        yaw = rng.uniform(0, np.pi)
+        half = np.array([rng.uniform(0.2, 0.35), 0.015, rng.uniform(0.2, 0.4)])
+        normal = np.array([-np.sin(yaw), np.cos(yaw), 0.0])  # the plate's local y, in front of the post
+        c = np.array([sx, sy, post_top - 0.05]) + normal * (post_r + half[1] + 0.005)
+        shapes.append(Box(c, half, rot_z(yaw), role="sign_plate", thin=True))
     for pitch_deg in (8.0, 25.0):  # ramps rising along +x: below / above the crease angle
         p = np.radians(pitch_deg)
         length, width, thick = 2.5, 1.5, 0.1
