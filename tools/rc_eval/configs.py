@@ -18,6 +18,9 @@ ABLATIONS = {"Ours-NoSmooth": {"use_smoothness": False}, "Ours-NoCurv": {"use_cu
              # the ring-wise labels alone: every inter-ring step (Params, section 6.2) off
              "Ours-RingOnly": {"inter_ring_roughness": False, "suppress_foliage_features": False,
                                "occlusion_aware_jumps": False, "thin_objects": False}}
+# The defaults with an inter-ring step that is off by default switched on (Params, section 6.2).
+OPTIONS = {"Ours-OcclusionJumps": {"occlusion_aware_jumps": True},
+           "Ours-AllInterRing": {"occlusion_aware_jumps": True, "suppress_foliage_features": True}}
 BASELINES = {"PCA-Curv": "pca", "EuclideanClust": "euclid"}
 
 

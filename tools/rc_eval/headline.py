@@ -1,8 +1,10 @@
-"""The headline accuracy table: F1 per class and noise level for the defaults, the paper as
-written, the ablations and the baselines, from accuracy_sweep's accuracy_modes.json."""
+"""The headline accuracy table: F1 per class and noise level for the defaults, the inter-ring
+steps that are off by default switched on, the paper as written, the ablations and the
+baselines, from accuracy_sweep's accuracy_modes.json."""
 from .accuracy import f1
 
-ROWS = ("default", "paper-as-written", "Ours-NoSmooth", "Ours-NoCurv", "PCA-Curv", "EuclideanClust")
+ROWS = ("default", "Ours-OcclusionJumps", "Ours-AllInterRing", "Ours-RingOnly", "paper-as-written",
+        "Ours-NoSmooth", "Ours-NoCurv", "PCA-Curv", "EuclideanClust")
 SHOWN = ("Plane", "Edge", "Corner", "Rough")
 
 
@@ -16,12 +18,14 @@ def f1_of(summary, cls):
 
 def headline_table(sweep):
     """Markdown: one row per configuration in ROWS that the sweep ran, F1 per class at each noise
-    level, then the mean F1 over the four classes (the sweep's ranking key)."""
+    level, the mean F1 over the four classes (the sweep's ranking key), then the recall of thin
+    objects (poles, trunks, signs found by an Edge or Corner; "-" where the scorer has no Thin)."""
     noises = sweep["noise"]
     res = sweep["results"]
     head = "| config | " + " | ".join("%s %g cm" % (c, 100 * n) for n in noises for c in SHOWN) + \
-        " | " + " | ".join("mean %g cm" % (100 * n) for n in noises) + " |"
-    lines = [head, "|" + "---|" * (1 + len(noises) * (len(SHOWN) + 1))]
+        " | " + " | ".join("mean %g cm" % (100 * n) for n in noises) + \
+        " | " + " | ".join("thin R %g cm" % (100 * n) for n in noises) + " |"
+    lines = [head, "|" + "---|" * (1 + len(noises) * (len(SHOWN) + 2))]
     for name in ROWS:
         if name not in res:
             continue
@@ -30,5 +34,7 @@ def headline_table(sweep):
             s = res[name][str(n)]["summary"]
             cells += ["-" if f1_of(s, c) is None else "%.2f" % f1_of(s, c) for c in SHOWN]
         cells += ["%.3f" % res[name][str(n)]["mean_f1"] for n in noises]
+        thin = [res[name][str(n)]["summary"].get("Thin", (None, None))[1] for n in noises]
+        cells += ["-" if t is None else "%.2f" % t for t in thin]
         lines.append("| %s | %s |" % (name, " | ".join(cells)))
     return "\n".join(lines)

@@ -4,7 +4,7 @@ import json
 import os
 
 from .accuracy import CLASSES, evaluate_method, mean_f1, summary
-from .configs import ABLATIONS, BASELINES, PAPER, mode_grid
+from .configs import ABLATIONS, BASELINES, OPTIONS, PAPER, mode_grid
 from .datasets import noise_sets
 from .headline import headline_table
 from .progress import Progress
@@ -34,7 +34,7 @@ def table(results, noises, names):
         cells = []
         for n in noises:
             s = results[name][str(n)]["summary"]
-            cells += ["%s/%s" % (fmt(s[c][0]), fmt(s[c][1])) for c in CLASSES]
+            cells += ["%s/%s" % (fmt(s[c][0]), fmt(s[c][1])) if c in s else "-" for c in CLASSES]
         cells += ["%.3f" % results[name][str(n)]["mean_f1"] for n in noises]
         lines.append("| %s | %s |" % (name, " | ".join(cells)))
     return "\n".join(lines)
@@ -44,7 +44,8 @@ def main(argv):
     a = parse(argv)
     os.makedirs(a.out, exist_ok=True)
     bags = noise_sets(a.work, a.noise, a.seeds, a.sensor)
-    configs = [("default", {}), ("paper-as-written", PAPER)] + sorted(ABLATIONS.items()) + mode_grid()
+    configs = [("default", {}), ("paper-as-written", PAPER)] + sorted(ABLATIONS.items()) + \
+        sorted(OPTIONS.items()) + mode_grid()
     if a.only:
         configs = [c for c in configs if c[0] in a.only]
     runs = [(n, c) for c in configs for n in a.noise] + [(n, (b, None)) for b in BASELINES for n in a.noise]
