@@ -1,5 +1,6 @@
 """Simulated evaluation sets: one bag per noise level holding several scenes (street scenes from
 consecutive seeds and one box scene), built with tools/simulate_scene's own code."""
+import hashlib
 import os
 
 from .simulate_cli import main as simulate
@@ -23,12 +24,24 @@ def merge_bags(parts, out):
     return out
 
 
+def simulator_key():
+    """Short hash of the simulator's sources: bags simulated by another version are not reused."""
+    h = hashlib.sha1()
+    here = os.path.dirname(os.path.realpath(__file__))
+    for name in ("raycast.py", "scene.py", "sensors.py", "simulate.py", "simulate_cli.py"):
+        with open(os.path.join(here, name), "rb") as f:
+            h.update(f.read())
+    return h.hexdigest()[:8]
+
+
 def noise_sets(work_dir, noises, seeds, sensor="vlp16", dropout=0.005, quiet=True):
-    """{noise: bag path}; reuses bags already in work_dir (they are deterministic)."""
+    """{noise: bag path}; reuses bags already in work_dir (they are deterministic) when the same
+    simulator, seeds and dropout made them."""
     os.makedirs(work_dir, exist_ok=True)
     out = {}
+    key = "%s_s%s_d%g" % (simulator_key(), "-".join(map(str, seeds)), dropout)
     for n in noises:
-        path = os.path.join(work_dir, "%s_noise%03dmm.bag" % (sensor, round(n * 1000)))
+        path = os.path.join(work_dir, "%s_noise%03dmm_%s.bag" % (sensor, round(n * 1000), key))
         if not os.path.exists(path):
             parts = []
             for i, s in enumerate(list(seeds) + ["box"]):
