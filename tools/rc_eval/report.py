@@ -10,7 +10,8 @@ from .figures import PAPER_MS, STAGES, plot_convergence, plot_runtime_frames
 from .headline import headline_table
 
 COLOURS = {"Ours-Full": "#f2c200", "Ours-Paper": "#8fbc5a", "Ours-NoSmooth": "#9ecae1",
-           "Ours-NoCurv": "#3182bd", "PCA-Curv": "#f28e2b", "EuclideanClust": "#d62728"}
+           "Ours-NoCurv": "#3182bd", "Ours-RingOnly": "#bbbbbb", "PCA-Curv": "#f28e2b",
+           "EuclideanClust": "#d62728"}
 
 
 def machine():
