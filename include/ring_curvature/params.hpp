@@ -93,21 +93,28 @@ struct Params
   bool use_smoothness = true;           ///< ablation (paper Table 2, Ours-NoSmooth): false ignores S
 
   // --- inter-ring evidence (the paper's section 6.2; all off = the ring-wise labels) -----------
-  bool inter_ring_roughness = true;     ///< Rough decided over a 3-ring x 5-sample window
-  float rough_smoothness_min = 6e-5f;   ///< [m^2] least bound on S (x (range / rough_range_scale)^2) called rough along the ring
-  float rough_vertical_min = 0.015f;    ///< [m] least bound on the cross-ring range residual (x range / scale) called rough
+  bool inter_ring_roughness = true;     ///< Rough decided over a window of rings x samples (below)
+  int rough_window_half = 4;            ///< the window: this many samples each way along the ring
+  int rough_window_rings = 0;           ///< ... on the ring itself and this many rings above and below (0: 2 with >= 32 rings, else 1)
+  float rough_smoothness_min = 4e-5f;   ///< [m^2] least bound on S (x (range / rough_range_scale)^2) called rough along the ring
+  float rough_vertical_min = 0.012f;    ///< [m] least bound on the cross-ring range residual (x range / scale) called rough
   float rough_noise_k = 3.0f;           ///< both bounds at least this multiple of the frame's lower-quartile value (S: squared)
   float rough_range_scale = 10.0f;      ///< [m] both bounds grow with range beyond this (0: never)
   float rough_window_fraction = 0.5f;   ///< Rough where at least this share of the window is rough both ways
-  bool suppress_foliage_features = false;  ///< no Edge/Corner inside rough surroundings
+  bool edge_vertical_support = true;    ///< in a noisy frame an Edge needs an Edge/Corner beside it on the ring above or below
+  float edge_support_noise = 0.015f;    ///< [m] ... a frame whose range noise (from the cross-ring residual) is above this
+  bool suppress_foliage_features = true;   ///< no Edge/Corner inside rough surroundings
   float foliage_feature_fraction = 0.3f;  ///< an Edge/Corner with this share of its window rough becomes Rough
-  bool occlusion_aware_jumps = false;   ///< only the near side of a depth jump is a Corner
+  bool foliage_keep_silhouettes = true;  ///< ... unless it is the near side of a jump stacked over rings (a trunk's outline)
+  bool occlusion_aware_jumps = true;    ///< only the near side of a depth jump is a Corner
   float occlusion_min_jump = 0.10f;     ///< [m] smallest depth jump (and jump_min_ratio * range)
   bool thin_objects = true;             ///< narrow runs in front of both neighbours, stacked over rings: Edge
   float thin_max_width = 0.7f;          ///< [m] widest such run (poles, trunks, signs)
+  bool thin_occluded = true;            ///< a run hidden on one side by a nearer object (a pole behind another) counts too
   float thin_min_range = 2.0f;          ///< [m] nearer runs are not thin objects (clutter around the sensor)
   int thin_min_stack = 4;               ///< of the 4 samples above and below (2 rings each way), how many must be such runs
   float thin_max_range_step = 0.2f;     ///< [m] range difference to a stacked sample
+  float thin_range_step_ratio = 0.02f;  ///< ... or this share of the range, if larger (rings spread with range)
 
   // --- primitives (section 4.3) ----------------------------------------------------------
   float proximity_azimuth_factor = 1.5f;  ///< Eq 19: d theta_tol = factor * azimuth resolution

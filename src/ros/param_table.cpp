@@ -80,15 +80,22 @@ Status forEachParam(Params& p, ParamVisitor& v)
       v.visit("rough_noise_k", p.rough_noise_k) &&
       v.visit("rough_range_scale", p.rough_range_scale) &&
       v.visit("rough_window_fraction", p.rough_window_fraction) &&
+      v.visit("rough_window_half", p.rough_window_half) &&
+      v.visit("rough_window_rings", p.rough_window_rings) &&
+      v.visit("edge_vertical_support", p.edge_vertical_support) &&
+      v.visit("edge_support_noise", p.edge_support_noise) &&
       v.visit("suppress_foliage_features", p.suppress_foliage_features) &&
+      v.visit("foliage_keep_silhouettes", p.foliage_keep_silhouettes) &&
       v.visit("foliage_feature_fraction", p.foliage_feature_fraction) &&
       v.visit("occlusion_aware_jumps", p.occlusion_aware_jumps) &&
       v.visit("occlusion_min_jump", p.occlusion_min_jump) &&
       v.visit("thin_objects", p.thin_objects) &&
       v.visit("thin_max_width", p.thin_max_width) &&
+      v.visit("thin_occluded", p.thin_occluded) &&
       v.visit("thin_min_range", p.thin_min_range) &&
       v.visit("thin_min_stack", p.thin_min_stack) &&
       v.visit("thin_max_range_step", p.thin_max_range_step) &&
+      v.visit("thin_range_step_ratio", p.thin_range_step_ratio) &&
       v.visit("proximity_azimuth_factor", p.proximity_azimuth_factor) &&
       v.visit("proximity_range_ratio", p.proximity_range_ratio) &&
       v.visit("proximity_range_min", p.proximity_range_min) &&

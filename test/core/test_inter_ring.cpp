@@ -1,6 +1,7 @@
 // The inter-ring steps (classification/inter_ring.cpp) on a scene whose answer is known: a room
-// of walls, a "hedge" of random depth in front of part of it, and a pole in front of another
-// part, on 16 rings. Each step is checked with its switch on and off, so that a step that does
+// of walls, a "hedge" of random depth in front of part of it with a pole in front of the hedge,
+// a pole in front of a wall, a pole partly behind another, a vertical crease (a room's corner)
+// and a dent on one ring only, on 16 rings. Each step is checked with its switch on and off, so that a step that does
 // nothing (or the wrong thing) fails.
 #include <gtest/gtest.h>
 
@@ -18,7 +19,9 @@ using namespace ring_curvature::test;
 namespace
 {
 constexpr double kPi = 3.14159265358979323846;
-enum Part : int { kWall = 0, kHedge = 1, kPole = 2, kShadow = 3 };
+enum Part : int { kWall = 0, kHedge = 1, kPole = 2, kShadow = 3, kHidden = 4, kHedgePole = 5, kCrease = 6, kDent = 7, kStrip = 8 };
+constexpr int kDentRing = 8;
+constexpr std::size_t kColumns = 1800;  // samples per ring, rings one after the other
 
 struct Scene
 {
@@ -35,9 +38,9 @@ Scene makeScene()
   for (int n = 0; n < 16; ++n)
   {
     const double phi = (-15 + 2 * n) * kPi / 180;
-    for (int k = 0; k < 1800; ++k)
+    for (std::size_t k = 0; k < kColumns; ++k)
     {
-      const double th = -kPi + k * step;
+      const double th = -kPi + static_cast<double>(k) * step;
       double dx, dy, dz;
       beamDir(phi, th, dx, dy, dz);
       double t = 10.0 / std::max(0.2, std::fabs(std::cos(th)));  // walls
@@ -55,6 +58,36 @@ Scene makeScene()
       }
       else if (std::fabs(pole) < 0.1 / 6.0 + 1.5 * step)
         part = kShadow;  // the wall right beside the pole: the far side of its depth jumps
+      // a pole 0.2 m wide at 6 m, and beside it a second at 7 m whose left third it hides
+      const double front = th + 2.5, hidden = th + 2.5 - (0.1 / 6.0 + 0.005);
+      if (std::fabs(front) < 0.1 / 6.0)
+        t = 6.0;
+      else if (std::fabs(hidden) < 0.1 / 7.0)
+      {
+        t = 7.0;
+        part = kHidden;
+      }
+      if (std::fabs(th - 0.15) < 0.1 / 6.0)  // a pole at 6 m in front of the hedge
+      {
+        t = 6.0;
+        part = kHedgePole;
+      }
+      if (th > 1.0 && th < 1.4)  // a room's corner: two walls that meet at 7 m, at azimuth 1.2
+      {
+        const double alpha = th < 1.2 ? 0.6 : 1.8;
+        t = 7.0 * std::cos(0.6) / (std::cos(phi) * std::cos(th - alpha));
+        part = std::fabs(th - 1.2) < 1.5 * step ? kCrease : kWall;
+      }
+      if ((n == 7 || n == 8) && th > -1.0 && th < -0.8)  // a rough strip two rings tall on the wall
+      {
+        t += depth(rng) - 0.5;
+        part = kStrip;
+      }
+      if (n == kDentRing && std::fabs(th - 0.6) < 4.5 * step)  // a dent, 15 cm deep, on one ring only
+      {
+        t += 0.15 * (1.0 - std::fabs(th - 0.6) / (4.5 * step));
+        part = kDent;
+      }
       s.cloud.add(t * dx, t * dy, t * dz, n);
       s.part.push_back(part);
     }
@@ -87,7 +120,8 @@ FrameResult run(const Scene& s, const Params& p)
 Params allOff()
 {
   Params p;
-  p.inter_ring_roughness = p.suppress_foliage_features = p.occlusion_aware_jumps = p.thin_objects = false;
+  p.inter_ring_roughness = p.edge_vertical_support = p.suppress_foliage_features = p.occlusion_aware_jumps =
+      p.thin_objects = false;
   return p;
 }
 }  // namespace
@@ -133,7 +167,83 @@ TEST(InterRing, OnlyTheNearSideOfAJumpIsACorner)
   on.occlusion_aware_jumps = true;
   const double off_share = share(s, run(s, allOff()), kShadow, Label::Corner);
   EXPECT_GE(off_share, 0.4);  // ring-wise, the wall right beside the pole is a jump's Corner
-  EXPECT_EQ(share(s, run(s, on), kShadow, Label::Corner), 0.0);
+  const FrameResult r = run(s, on);
+  EXPECT_EQ(share(s, r, kShadow, Label::Corner), 0.0);
+  // the Corner moves to the near side: on every ring, both of the pole's outlines are Corners
+  for (int n = 0; n < 16; ++n)
+  {
+    int corners = 0;
+    for (std::size_t i = 0; i < s.part.size(); ++i)
+      corners += static_cast<int>(i / kColumns) == n && s.part[i] == kPole && r.label[i] == static_cast<std::uint8_t>(Label::Corner);
+    EXPECT_EQ(corners, 2) << "ring " << n;
+  }
+}
+
+TEST(InterRing, APolePartlyHiddenByAnotherIsThinToo)
+{
+  const Scene s = makeScene();
+  Params on = allOff();
+  on.thin_objects = true;
+  on.thin_occluded = false;
+  const double alone = share(s, run(s, on), kHidden, Label::Edge, Label::Corner);
+  on.thin_occluded = true;
+  const double with = share(s, run(s, on), kHidden, Label::Edge, Label::Corner);
+  std::printf("hidden pole Edge/Corner: %.3f in front of both sides only, %.3f with thin_occluded\n", alone, with);
+  EXPECT_GT(with, 0.6);
+  EXPECT_GT(with, alone + 0.4);
+}
+
+TEST(InterRing, AnEdgeNeedsSupportFromTheRingAboveOrBelow)
+{
+  const Scene s = makeScene();
+  Params on = allOff();
+  const FrameResult off = run(s, on);
+  on.edge_vertical_support = true;
+  const FrameResult with = run(s, on);
+  // the dent on one ring is an Edge ring-wise, and not with support; the corner keeps its Edges
+  ASSERT_GT(share(s, off, kDent, Label::Edge), 0.0);
+  EXPECT_EQ(share(s, with, kDent, Label::Edge), 0.0);
+  const double crease_off = share(s, off, kCrease, Label::Edge), crease_on = share(s, with, kCrease, Label::Edge);
+  std::printf("room corner Edge: %.3f ring-wise, %.3f with vertical support\n", crease_off, crease_on);
+  EXPECT_GT(crease_off, 0.3);
+  EXPECT_GE(crease_on, crease_off - 0.02);
+}
+
+TEST(InterRing, AnOutlineStackedOverRingsSurvivesFoliageSuppression)
+{
+  // the pole in front of the hedge: its outlines are Corners in a rough window; suppression
+  // makes them Rough unless they are a silhouette stacked over rings (thin objects off here)
+  const Scene s = makeScene();
+  Params on = allOff();
+  on.inter_ring_roughness = on.suppress_foliage_features = true;
+  on.rough_smoothness_min = 1e-3f;  // (as in the roughness test)
+  on.rough_vertical_min = 0.05f;
+  on.foliage_keep_silhouettes = false;
+  const double dropped = share(s, run(s, on), kHedgePole, Label::Corner, Label::Edge);
+  on.foliage_keep_silhouettes = true;
+  const double kept = share(s, run(s, on), kHedgePole, Label::Corner, Label::Edge);
+  std::printf("pole in front of the hedge, Edge/Corner: %.3f suppressed, %.3f keeping silhouettes\n", dropped, kept);
+  // (the pole is ~10 samples wide: its two outlines on every ring are 0.2 of its points)
+  EXPECT_LT(dropped, 0.1);
+  EXPECT_GT(kept, 0.15);
+  EXPECT_GT(kept, dropped + 0.1);
+}
+
+TEST(InterRing, TheRoughWindowSpansTheRingsAsConfigured)
+{
+  // a rough strip two rings tall: 2 of a 3-ring window's rings are rough, 2 of a 5-ring one's
+  const Scene s = makeScene();
+  Params on = allOff();
+  on.inter_ring_roughness = true;
+  on.rough_smoothness_min = 1e-3f;
+  on.rough_vertical_min = 0.05f;
+  on.rough_window_rings = 1;
+  const double three = share(s, run(s, on), kStrip, Label::Rough);
+  on.rough_window_rings = 2;
+  const double five = share(s, run(s, on), kStrip, Label::Rough);
+  std::printf("strip points Rough: %.3f with a 3-ring window, %.3f with a 5-ring one\n", three, five);
+  EXPECT_GT(three, 0.5);
+  EXPECT_LT(five, 0.1);
 }
 
 TEST(InterRing, QuartileModeIsThePapersWhateverTheSwitches)
@@ -141,6 +251,7 @@ TEST(InterRing, QuartileModeIsThePapersWhateverTheSwitches)
   const Scene s = makeScene();
   Params a = allOff(), b;
   a.classifier_mode = b.classifier_mode = ClassifierMode::Quartile;
-  b.inter_ring_roughness = b.suppress_foliage_features = b.occlusion_aware_jumps = b.thin_objects = true;
+  b.inter_ring_roughness = b.edge_vertical_support = b.suppress_foliage_features = b.occlusion_aware_jumps =
+      b.thin_objects = true;
   EXPECT_EQ(run(s, a).label, run(s, b).label);
 }

@@ -16,11 +16,15 @@ PAPER = {"curvature_mode": "paper", "smoothness_mode": "variance", "discontinuit
 # classifier (Params::use_smoothness / use_curvature), everything else unchanged.
 ABLATIONS = {"Ours-NoSmooth": {"use_smoothness": False}, "Ours-NoCurv": {"use_curvature": False},
              # the ring-wise labels alone: every inter-ring step (Params, section 6.2) off
-             "Ours-RingOnly": {"inter_ring_roughness": False, "suppress_foliage_features": False,
-                               "occlusion_aware_jumps": False, "thin_objects": False}}
-# The defaults with an inter-ring step that is off by default switched on (Params, section 6.2).
-OPTIONS = {"Ours-OcclusionJumps": {"occlusion_aware_jumps": True},
-           "Ours-AllInterRing": {"occlusion_aware_jumps": True, "suppress_foliage_features": True}}
+             "Ours-RingOnly": {"inter_ring_roughness": False, "edge_vertical_support": False,
+                               "suppress_foliage_features": False, "occlusion_aware_jumps": False,
+                               "thin_objects": False}}
+# The defaults with one inter-ring step (Params, section 6.2) switched off: what each one brings.
+OPTIONS = {"Ours-NoInterRingRough": {"inter_ring_roughness": False},
+           "Ours-NoEdgeSupport": {"edge_vertical_support": False},
+           "Ours-NoFoliageSuppression": {"suppress_foliage_features": False},
+           "Ours-NoOcclusionJumps": {"occlusion_aware_jumps": False},
+           "Ours-NoThinObjects": {"thin_objects": False}}
 BASELINES = {"PCA-Curv": "pca", "EuclideanClust": "euclid"}
 
 

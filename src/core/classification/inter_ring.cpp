@@ -58,35 +58,14 @@ RC_SIMD_CLONES void scaledRoughness(std::size_t m, const std::int32_t* __restric
   }
 }
 
-// Rough samples (both measures above their bounds), and each sample's 5-sample window along its
-// ring: how many samples it has (high nibble), how many of them rough (low nibble).
-RC_SIMD_CLONES void roughWindows(std::size_t m, const std::int32_t* __restrict prev,
-                                 const std::int32_t* __restrict next, const float* __restrict vert,
-                                 const float* __restrict ring_s, float v_thr, float s_thr,
-                                 std::uint8_t* __restrict rough, std::uint8_t* __restrict window)
-{
-  for (std::size_t p = 0; p < m; ++p) rough[p] = (ring_s[p] > s_thr) & (vert[p] > v_thr);
-  for (std::size_t p = 0; p < m; ++p)
-  {
-    const auto self = static_cast<std::int32_t>(p);
-    const std::int32_t a = prev[p], c = next[p];
-    const std::int32_t a2 = a >= 0 ? prev[a] : -1, c2 = c >= 0 ? next[c] : -1;
-    int total = 1, count = rough[p];
-    for (const std::int32_t q : {a, c, a2 != self ? a2 : -1, c2 != self ? c2 : -1})
-    {
-      total += q >= 0 ? 1 : 0;
-      count += q >= 0 ? rough[q] : 0;
-    }
-    window[p] = static_cast<std::uint8_t>(total << 4 | count);
-  }
-}
 }  // namespace
 
 bool InterRingRefiner::enabled(const Params& P)
 {
   // Algorithm 1 (quartile mode) stays as the paper wrote it
   return P.classifier_mode == ClassifierMode::Robust &&
-         (P.inter_ring_roughness || P.suppress_foliage_features || P.occlusion_aware_jumps || P.thin_objects);
+         (P.inter_ring_roughness || P.edge_vertical_support || P.suppress_foliage_features || P.occlusion_aware_jumps ||
+          P.thin_objects);
 }
 
 void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params& P, std::vector<Label>& labels)
@@ -96,48 +75,93 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
   ringLinks(g);
   verticalNeighbours(g);
   const bool share_needed = P.inter_ring_roughness || P.suppress_foliage_features;
+  // auto: 5 rings where they are dense (>= 32), else 3 (a 16-ring sensor's 5 rings span a hedge)
+  const int window_rings = P.rough_window_rings > 0 ? P.rough_window_rings : (g.num_rings >= 32 ? 2 : 1);
   if (share_needed) roughness(g, f, P);
-  // in place: each sample reads and writes only its own label (no step makes a label None)
+  const bool keep_silhouettes = P.suppress_foliage_features && P.foliage_keep_silhouettes;
+  if (keep_silhouettes) silhouettes(g, P);
+  // in place: each sample reads and writes only its own label (no step makes a label None); a
+  // Corner moved to the near side of its jump is marked in occluder_ and set after the pass
   const double* const rho = g.range.data();
+  if (P.occlusion_aware_jumps) occluder_.assign(m, 0);
+  const bool edge_support = P.edge_vertical_support && (!share_needed || noise_sigma_ > P.edge_support_noise);
+  if (edge_support)
+  {
+    ring_feature_.resize(m);
+    for (std::uint32_t p = 0; p < m; ++p)
+      ring_feature_[p] = labels[p] == Label::Edge || labels[p] == Label::Corner ? 1 : 0;
+  }
   for (std::uint32_t p = 0; p < m; ++p)
   {
     const Label l0 = labels[p];
     if (l0 == Label::None) continue;
     Label l = l0;
-    const float share = share_needed ? roughShare(p) : 0.0f;
+    const float share = share_needed ? roughShare(p, window_rings) : 0.0f;
+    // a crease crosses rings, range noise does not line up from one ring to the next; asked only
+    // of a noisy frame (a fold along the ring, e.g. a wall's foot, has no Edge on the rings beside
+    // it, and a quiet sensor's ring-wise Edges are reliable)
+    if (edge_support && l0 == Label::Edge && !flaggedNear(ring_feature_, up_[p], rho[p], rho, P) &&
+        !flaggedNear(ring_feature_, down_[p], rho[p], rho, P))
+      l = Label::Plane;
     if (P.inter_ring_roughness)
     {
-      if (l0 == Label::Rough) l = Label::Plane;  // the window decides Rough
+      if (l == Label::Rough) l = Label::Plane;  // the window decides Rough
       if (share >= P.rough_window_fraction) l = Label::Rough;
     }
-    if (P.suppress_foliage_features && (l == Label::Edge || l == Label::Corner) &&
+    // (a trunk's outline in front of foliage is a vertical line over rings, a leaf's is not)
+    if (P.suppress_foliage_features && (l0 == Label::Edge || l0 == Label::Corner) &&
         share >= P.foliage_feature_fraction)
-      l = Label::Rough;
+      l = keep_silhouettes && silhouette_[p] != 0 && stacked(silhouette_, p, rho, P) ? l0 : Label::Rough;
     if (P.occlusion_aware_jumps && l == Label::Corner)
     {
-      // the far side of a jump: a ring neighbour is nearer by a jump (the occluder)
-      bool shadow = false;
+      // the far side of a jump: a ring neighbour is nearer by a jump (the occluder), whose side
+      // the Corner moves to (the run's peak may have been on the far side)
       for (const std::int32_t q : {prev_[p], next_[p], twoBack(p), twoAhead(p)})
-        shadow = shadow || (q >= 0 && rho[q] < rho[p] && isJump(rho[q], rho[p], P));
-      if (shadow) l = Label::Plane;
+        if (q >= 0 && rho[q] < rho[p] && isJump(rho[q], rho[p], P))
+        {
+          occluder_[static_cast<std::size_t>(q)] = 1;
+          l = Label::Plane;
+          break;
+        }
     }
     labels[p] = l;
   }
+  if (P.occlusion_aware_jumps)
+    for (std::uint32_t p = 0; p < m; ++p)
+      if (occluder_[p] != 0 && (labels[p] == Label::Plane || labels[p] == Label::Edge)) labels[p] = Label::Corner;
   if (!P.thin_objects) return;
   thinRuns(g, P);
   for (std::uint32_t p = 0; p < m; ++p)
   {
     // (a Corner stays: the near side of the jump that bounds the run)
     if (labels[p] == Label::None || thin_[p] == 0 || labels[p] == Label::Corner) continue;
-    const std::int32_t u = up_[p], d = down_[p];
-    int stacked = 0;
-    for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
-                                 d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
-      stacked += q >= 0 && thin_[static_cast<std::size_t>(q)] != 0 &&
-                         std::fabs(rho[q] - rho[p]) < static_cast<double>(P.thin_max_range_step)
-                     ? 1
-                     : 0;
-    if (stacked >= P.thin_min_stack) labels[p] = Label::Edge;
+    if (stacked(thin_, p, rho, P)) labels[p] = Label::Edge;
+  }
+}
+
+bool InterRingRefiner::stacked(const std::vector<std::uint8_t>& flag, std::uint32_t p, const double* rho,
+                               const Params& P) const
+{
+  const std::int32_t u = up_[p], d = down_[p];
+  int count = 0;
+  for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
+                               d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
+    count += flaggedNear(flag, q, rho[p], rho, P) ? 1 : 0;
+  return count >= P.thin_min_stack;
+}
+
+void InterRingRefiner::silhouettes(const ScanGrid& g, const Params& P)
+{
+  const std::size_t m = g.size();
+  const double* const rho = g.range.data();
+  silhouette_.resize(m);
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    // a missing ring neighbour (no return) counts as farther, as in thinRuns
+    bool near_side = false;
+    for (const std::int32_t q : {prev_[p], next_[p]})
+      near_side = near_side || q < 0 || (rho[q] > rho[p] && isJump(rho[q], rho[p], P));
+    silhouette_[p] = near_side ? 1 : 0;
   }
 }
 
@@ -190,17 +214,78 @@ void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Par
   vert_.resize(m);
   ring_s_.resize(m);
   rough_.resize(m);
-  window_.resize(m);
   acrossRings(m, up_.data(), down_.data(), g.range.data(), across_.data());
   scaledRoughness(m, prev_.data(), next_.data(), across_.data(), f.smoothness.data(), g.range.data(),
                   P.rough_range_scale, vert_.data(), ring_s_.data());
   // The bounds follow the frame's own noise: a multiple of the lower quartile of each measure
   // (most samples are planes, and foliage rarely reaches the lower quartile), never below the
   // fixed minimum that a quiet sensor needs.
-  const float v_thr = std::max(P.rough_vertical_min, P.rough_noise_k * lowerQuartile(vert_));
+  const float v_lq = lowerQuartile(vert_);
+  // v of Gaussian range noise sigma: |N(0, 1.5 sigma)|, whose lower quartile is 0.48 sigma
+  noise_sigma_ = v_lq / 0.48f;
+  const float v_thr = std::max(P.rough_vertical_min, P.rough_noise_k * v_lq);
   const float s_thr = std::max(P.rough_smoothness_min, P.rough_noise_k * P.rough_noise_k * lowerQuartile(ring_s_));
-  roughWindows(m, prev_.data(), next_.data(), vert_.data(), ring_s_.data(), v_thr, s_thr, rough_.data(),
-               window_.data());
+  for (std::size_t p = 0; p < m; ++p) rough_[p] = (ring_s_[p] > s_thr) & (vert_[p] > v_thr);
+  ringWindows(P);
+}
+
+void InterRingRefiner::ringWindows(const Params& P)
+{
+  const std::size_t m = rough_.size();
+  win_total_.resize(m);
+  win_rough_.resize(m);
+  for (std::uint32_t p = 0; p < m; ++p)
+  {
+    // walk back, then ahead, at most rough_window_half steps each; on a ring shorter than the
+    // window the walk ahead stops where it meets the walk back (no sample counts twice)
+    std::int32_t back[4];
+    int nb = 0, total = 1, rough = rough_[p];
+    for (std::int32_t q = prev_[p]; q >= 0 && q != static_cast<std::int32_t>(p) && nb < P.rough_window_half;
+         q = prev_[static_cast<std::size_t>(q)])
+    {
+      back[nb++] = q;
+      rough += rough_[static_cast<std::size_t>(q)];
+    }
+    total += nb;
+    int na = 0;
+    for (std::int32_t q = next_[p]; q >= 0 && q != static_cast<std::int32_t>(p) && na < P.rough_window_half;
+         q = next_[static_cast<std::size_t>(q)], ++na)
+    {
+      if (std::find(back, back + nb, q) != back + nb) break;
+      ++total;
+      rough += rough_[static_cast<std::size_t>(q)];
+    }
+    win_total_[p] = static_cast<std::uint8_t>(total);
+    win_rough_[p] = static_cast<std::uint8_t>(rough);
+  }
+}
+
+float InterRingRefiner::roughShare(std::uint32_t p, int rings) const
+{
+  int total = win_total_[p], rough = win_rough_[p];
+  for (const std::vector<std::int32_t>* side : {&up_, &down_})
+  {
+    std::int32_t q = static_cast<std::int32_t>(p);
+    for (int k = 0; k < rings && q >= 0; ++k)
+    {
+      q = (*side)[static_cast<std::size_t>(q)];
+      if (q < 0) break;
+      total += win_total_[static_cast<std::size_t>(q)];
+      rough += win_rough_[static_cast<std::size_t>(q)];
+    }
+  }
+  return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
+}
+
+bool InterRingRefiner::flaggedNear(const std::vector<std::uint8_t>& flag, std::int32_t q, double r,
+                                   const double* rho, const Params& P) const
+{
+  if (q < 0) return false;
+  for (const std::int32_t c : {q, prev_[static_cast<std::size_t>(q)], next_[static_cast<std::size_t>(q)]})
+    if (c >= 0 && flag[static_cast<std::size_t>(c)] != 0 &&
+        std::fabs(rho[c] - r) < std::max(static_cast<double>(P.thin_max_range_step), P.thin_range_step_ratio * r))
+      return true;
+  return false;
 }
 
 float InterRingRefiner::lowerQuartile(const std::vector<float>& values)
@@ -258,7 +343,9 @@ void InterRingRefiner::thinRuns(const ScanGrid& g, const Params& P)
       const double dx = g.x[t - 1] - g.x[s], dy = g.y[t - 1] - g.y[s], dz = g.z[t - 1] - g.z[s];
       const bool narrow = dx * dx + dy * dy + dz * dz <= static_cast<double>(P.thin_max_width) * P.thin_max_width;
       const bool far_enough = rho[s] >= static_cast<double>(P.thin_min_range);  // (clutter at the sensor is not a pole)
-      if (narrow && far_enough && lo > rmax && ro > rmax) std::fill(thin_.begin() + s, thin_.begin() + t, 1);
+      // in front of both sides; or, with thin_occluded, of one (the other, nearer, hides part of it)
+      const bool in_front = P.thin_occluded ? (lo > rmax || ro > rmax) : (lo > rmax && ro > rmax);
+      if (narrow && far_enough && in_front) std::fill(thin_.begin() + s, thin_.begin() + t, 1);
       s = t;
     }
   }

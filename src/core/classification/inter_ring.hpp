@@ -1,11 +1,15 @@
 // Inter-ring evidence on the ring-wise labels (the paper's section 6.2, "early, selective
 // inter-ring fusion"): a ring alone cannot tell a hedge from a wall or a pole from a wall's edge,
 // the rings above and below can. Four steps, each with its switch in Params:
-// - roughness over a 3-ring window: foliage is rough along and across rings, a plane or a
-//   horizontal crease is not (its cross-ring residual is the same all along the ring);
-// - no Edge or Corner in rough surroundings;
+// - roughness over a window of 3 or 5 rings x up to 9 samples: foliage is rough along and across
+//   rings, a plane or a horizontal crease is not (its cross-ring residual is the same all along
+//   the ring);
+// - in a noisy frame, an Edge needs an Edge or Corner beside it on the ring above or below (a
+//   crease crosses rings, noise does not line up);
+// - no Edge or Corner in rough surroundings, but for outlines stacked over rings (a trunk's);
 // - occlusion: only the near side of a depth jump is a Corner (the far side is its shadow);
-// - thin objects: a narrow run in front of both its neighbours, stacked over rings, is Edge.
+// - thin objects: a narrow run in front of its neighbours (of one, where the other hides part of
+//   it), stacked over rings, is Edge.
 // Linear time: every position looks at O(1) neighbours, and the runs are one pass per ring.
 #pragma once
 
@@ -34,19 +38,10 @@ private:
   void roughness(const ScanGrid& grid, const Features& f, const Params& params);
   /// The lower quartile of the finite values (0 when none).
   float lowerQuartile(const std::vector<float>& values);
-  /// Share of rough samples in the window of p (its ring and the rings above and below, +-2).
-  float roughShare(std::uint32_t p) const
-  {
-    int total = 0, rough = 0;
-    for (const std::int32_t r : {static_cast<std::int32_t>(p), up_[p], down_[p]})
-      if (r >= 0)
-      {
-        const std::uint8_t w = window_[static_cast<std::size_t>(r)];
-        total += w >> 4;
-        rough += w & 15;
-      }
-    return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
-  }
+  /// Per position: samples and rough samples within rough_window_half along its ring.
+  void ringWindows(const Params& params);
+  /// Share of rough samples in the window of p (its ring and rough_window_rings above and below).
+  float roughShare(std::uint32_t p, int rings) const;
   /// Each sample's linked neighbours along its ring (prev_, next_).
   void ringLinks(const ScanGrid& grid);
   std::int32_t twoBack(std::uint32_t p) const
@@ -61,14 +56,24 @@ private:
   }
   /// Per position: in a thin run (thin_).
   void thinRuns(const ScanGrid& grid, const Params& params);
+  /// Whether q or a ring neighbour of it is flagged at about range r (a 1-sample pole is not
+  /// always the nearest sample in azimuth on the next ring).
+  bool flaggedNear(const std::vector<std::uint8_t>& flag, std::int32_t q, double r, const double* rho,
+                   const Params& params) const;
+  /// Whether p is stacked: flagged samples at about its range in thin_min_stack of the 4 places
+  /// 1 and 2 rings above and below.
+  bool stacked(const std::vector<std::uint8_t>& flag, std::uint32_t p, const double* rho, const Params& params) const;
+  /// Per position: the near side of a depth jump or of a gap (silhouette_).
+  void silhouettes(const ScanGrid& grid, const Params& params);
 
   std::vector<std::int32_t> up_, down_;  // -1: none
   std::vector<std::int32_t> prev_, next_;  // linked neighbours along the ring, -1: none
-  std::vector<std::uint8_t> window_;     // the 5-sample window along the ring: samples << 4 | rough ones
+  std::vector<std::uint8_t> win_total_, win_rough_;  // the window along the ring: samples, rough ones
   std::vector<float> across_;            // rho - mean of the ranges above and below (NaN: none)
   std::vector<float> vert_, ring_s_;     // the cross-ring and ring-wise roughness, range-scaled
   std::vector<float> scratch_;
-  std::vector<std::uint8_t> rough_, thin_;
+  float noise_sigma_ = 0.0f;             // the frame's range noise, estimated from vert_
+  std::vector<std::uint8_t> rough_, thin_, silhouette_, occluder_, ring_feature_;
 };
 
 }  // namespace ring_curvature

@@ -64,12 +64,16 @@ Status Params::validate() const
   RC_CHECK(rough_noise_k, 0.0f, 100.0f, "multiples of the lower quartile");
   RC_CHECK(rough_range_scale, 0.0f, 1000.0f, "metres, 0 = no range scaling");
   RC_CHECK(rough_window_fraction, 0.0f, 1.0f, "share of the window");
+  RC_CHECK(rough_window_half, 1, 4, "samples each way along the ring");
+  RC_CHECK(rough_window_rings, 0, 2, "rings above and below, 0 = by the ring count");
+  RC_CHECK(edge_support_noise, 0.0f, 10.0f, "metres");
   RC_CHECK(foliage_feature_fraction, 0.0f, 1.0f, "share of the window");
   RC_CHECK(occlusion_min_jump, 0.0f, 100.0f, "metres");
   RC_CHECK(thin_max_width, 0.0f, 100.0f, "metres");
   RC_CHECK(thin_min_range, 0.0f, 1000.0f, "metres");
   RC_CHECK(thin_min_stack, 1, 4, "samples of the 4 above and below");
   RC_CHECK(thin_max_range_step, 0.0f, 100.0f, "metres");
+  RC_CHECK(thin_range_step_ratio, 0.0f, 1.0f, "range difference / range");
   RC_CHECK(loam_sectors, 1, 360, "sectors per ring");
   RC_CHECK(loam_sharp_per_sector, 0, 100000, "points per sector");
   RC_CHECK(loam_less_sharp_per_sector, 0, 100000, "points per sector");
