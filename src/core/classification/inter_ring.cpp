@@ -79,7 +79,6 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
   const int window_rings = P.rough_window_rings > 0 ? P.rough_window_rings : (g.num_rings >= 32 ? 2 : 1);
   if (share_needed) roughness(g, f, P);
   const bool keep_silhouettes = P.suppress_foliage_features && P.foliage_keep_silhouettes;
-  if (keep_silhouettes) silhouettes(g, P);
   // in place: each sample reads and writes only its own label (no step makes a label None); a
   // Corner moved to the near side of its jump is marked in occluder_ and set after the pass
   const double* const rho = g.range.data();
@@ -111,7 +110,7 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
     // (a trunk's outline in front of foliage is a vertical line over rings, a leaf's is not)
     if (P.suppress_foliage_features && (l0 == Label::Edge || l0 == Label::Corner) &&
         share >= P.foliage_feature_fraction)
-      l = keep_silhouettes && silhouette_[p] != 0 && stacked(silhouette_, p, rho, P) ? l0 : Label::Rough;
+      l = keep_silhouettes && silhouette(p, rho, P) && stackedSilhouette(p, rho, P) ? l0 : Label::Rough;
     if (P.occlusion_aware_jumps && l == Label::Corner)
     {
       // the far side of a jump: a ring neighbour is nearer by a jump (the occluder), whose side
@@ -150,19 +149,30 @@ bool InterRingRefiner::stacked(const std::vector<std::uint8_t>& flag, std::uint3
   return count >= P.thin_min_stack;
 }
 
-void InterRingRefiner::silhouettes(const ScanGrid& g, const Params& P)
+bool InterRingRefiner::silhouette(std::int32_t p, const double* rho, const Params& P) const
 {
-  const std::size_t m = g.size();
-  const double* const rho = g.range.data();
-  silhouette_.resize(m);
-  for (std::uint32_t p = 0; p < m; ++p)
+  // a missing ring neighbour (no return) counts as farther, as in thinRuns
+  for (const std::int32_t q : {prev_[static_cast<std::size_t>(p)], next_[static_cast<std::size_t>(p)]})
+    if (q < 0 || (rho[q] > rho[p] && isJump(rho[q], rho[p], P))) return true;
+  return false;
+}
+
+bool InterRingRefiner::stackedSilhouette(std::uint32_t p, const double* rho, const Params& P) const
+{
+  // as stacked(), with the outline test made where it is asked (few samples are)
+  const double tol = std::max(static_cast<double>(P.thin_max_range_step), P.thin_range_step_ratio * rho[p]);
+  const std::int32_t u = up_[p], d = down_[p];
+  int count = 0;
+  for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
+                               d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
   {
-    // a missing ring neighbour (no return) counts as farther, as in thinRuns
-    bool near_side = false;
-    for (const std::int32_t q : {prev_[p], next_[p]})
-      near_side = near_side || q < 0 || (rho[q] > rho[p] && isJump(rho[q], rho[p], P));
-    silhouette_[p] = near_side ? 1 : 0;
+    if (q < 0) continue;
+    bool hit = false;
+    for (const std::int32_t c : {q, prev_[static_cast<std::size_t>(q)], next_[static_cast<std::size_t>(q)]})
+      hit = hit || (c >= 0 && std::fabs(rho[c] - rho[p]) < tol && silhouette(c, rho, P));
+    count += hit ? 1 : 0;
   }
+  return count >= P.thin_min_stack;
 }
 
 void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
@@ -226,37 +236,61 @@ void InterRingRefiner::roughness(const ScanGrid& g, const Features& f, const Par
   const float v_thr = std::max(P.rough_vertical_min, P.rough_noise_k * v_lq);
   const float s_thr = std::max(P.rough_smoothness_min, P.rough_noise_k * P.rough_noise_k * lowerQuartile(ring_s_));
   for (std::size_t p = 0; p < m; ++p) rough_[p] = (ring_s_[p] > s_thr) & (vert_[p] > v_thr);
-  ringWindows(P);
+  ringWindows(g, P);
 }
 
-void InterRingRefiner::ringWindows(const Params& P)
+void InterRingRefiner::ringWindows(const ScanGrid& g, const Params& P)
 {
   const std::size_t m = rough_.size();
+  const int h = P.rough_window_half;
   win_total_.resize(m);
   win_rough_.resize(m);
-  for (std::uint32_t p = 0; p < m; ++p)
+  cum_.resize(m + 1);
+  seg_end_.resize(m);
+  for (std::int32_t n = 0; n < g.num_rings; ++n)
   {
-    // walk back, then ahead, at most rough_window_half steps each; on a ring shorter than the
-    // window the walk ahead stops where it meets the walk back (no sample counts twice)
-    std::int32_t back[4];
-    int nb = 0, total = 1, rough = rough_[p];
-    for (std::int32_t q = prev_[p]; q >= 0 && q != static_cast<std::int32_t>(p) && nb < P.rough_window_half;
-         q = prev_[static_cast<std::size_t>(q)])
+    const RingSpan R(g, n);
+    if (R.end() == R.b) continue;
+    // inside the ring, a window is a stretch of the linked segment around p: prefix sums; within
+    // h of the ring's ends (where a closed ring's window crosses the seam) and on a ring of at
+    // most 2h + 1 samples (where the walks back and ahead meet), the links are walked
+    cum_[R.b] = 0;
+    for (std::uint32_t p = R.b; p < R.end(); ++p) cum_[p + 1] = cum_[p] + rough_[p];
+    seg_end_[R.end() - 1] = R.end() - 1;
+    for (std::uint32_t p = R.end() - 1; p > R.b; --p) seg_end_[p - 1] = g.linked[p] != 0 ? seg_end_[p] : p - 1;
+    const bool short_ring = R.end() - R.b <= static_cast<std::uint32_t>(2 * h + 1);
+    std::uint32_t seg_start = R.b;
+    for (std::uint32_t p = R.b; p < R.end(); ++p)
     {
-      back[nb++] = q;
-      rough += rough_[static_cast<std::size_t>(q)];
+      if (p > R.b && g.linked[p] == 0) seg_start = p;
+      if (!short_ring && p >= R.b + static_cast<std::uint32_t>(h) && p + static_cast<std::uint32_t>(h) < R.end())
+      {
+        const std::uint32_t lo = std::max(p - static_cast<std::uint32_t>(h), seg_start);
+        const std::uint32_t hi = std::min(p + static_cast<std::uint32_t>(h), seg_end_[p]);
+        win_total_[p] = static_cast<std::uint8_t>(hi - lo + 1);
+        win_rough_[p] = static_cast<std::uint8_t>(cum_[hi + 1] - cum_[lo]);
+        continue;
+      }
+      std::int32_t back[4];
+      int nb = 0, total = 1, rough = rough_[p];
+      for (std::int32_t q = prev_[p]; q >= 0 && q != static_cast<std::int32_t>(p) && nb < h;
+           q = prev_[static_cast<std::size_t>(q)])
+      {
+        back[nb++] = q;
+        rough += rough_[static_cast<std::size_t>(q)];
+      }
+      total += nb;
+      int na = 0;
+      for (std::int32_t q = next_[p]; q >= 0 && q != static_cast<std::int32_t>(p) && na < h;
+           q = next_[static_cast<std::size_t>(q)], ++na)
+      {
+        if (short_ring && std::find(back, back + nb, q) != back + nb) break;
+        ++total;
+        rough += rough_[static_cast<std::size_t>(q)];
+      }
+      win_total_[p] = static_cast<std::uint8_t>(total);
+      win_rough_[p] = static_cast<std::uint8_t>(rough);
     }
-    total += nb;
-    int na = 0;
-    for (std::int32_t q = next_[p]; q >= 0 && q != static_cast<std::int32_t>(p) && na < P.rough_window_half;
-         q = next_[static_cast<std::size_t>(q)], ++na)
-    {
-      if (std::find(back, back + nb, q) != back + nb) break;
-      ++total;
-      rough += rough_[static_cast<std::size_t>(q)];
-    }
-    win_total_[p] = static_cast<std::uint8_t>(total);
-    win_rough_[p] = static_cast<std::uint8_t>(rough);
   }
 }
 

@@ -39,7 +39,7 @@ private:
   /// The lower quartile of the finite values (0 when none).
   float lowerQuartile(const std::vector<float>& values);
   /// Per position: samples and rough samples within rough_window_half along its ring.
-  void ringWindows(const Params& params);
+  void ringWindows(const ScanGrid& grid, const Params& params);
   /// Share of rough samples in the window of p (its ring and rough_window_rings above and below).
   float roughShare(std::uint32_t p, int rings) const;
   /// Each sample's linked neighbours along its ring (prev_, next_).
@@ -63,17 +63,20 @@ private:
   /// Whether p is stacked: flagged samples at about its range in thin_min_stack of the 4 places
   /// 1 and 2 rings above and below.
   bool stacked(const std::vector<std::uint8_t>& flag, std::uint32_t p, const double* rho, const Params& params) const;
-  /// Per position: the near side of a depth jump or of a gap (silhouette_).
-  void silhouettes(const ScanGrid& grid, const Params& params);
+  /// Whether p is the near side of a depth jump or of a gap along its ring.
+  bool silhouette(std::int32_t p, const double* rho, const Params& params) const;
+  /// Whether p's outline is stacked over rings as stacked() asks of thin runs.
+  bool stackedSilhouette(std::uint32_t p, const double* rho, const Params& params) const;
 
   std::vector<std::int32_t> up_, down_;  // -1: none
   std::vector<std::int32_t> prev_, next_;  // linked neighbours along the ring, -1: none
   std::vector<std::uint8_t> win_total_, win_rough_;  // the window along the ring: samples, rough ones
+  std::vector<std::uint32_t> cum_, seg_end_;          // per ring: rough samples before p; p's segment's last
   std::vector<float> across_;            // rho - mean of the ranges above and below (NaN: none)
   std::vector<float> vert_, ring_s_;     // the cross-ring and ring-wise roughness, range-scaled
   std::vector<float> scratch_;
   float noise_sigma_ = 0.0f;             // the frame's range noise, estimated from vert_
-  std::vector<std::uint8_t> rough_, thin_, silhouette_, occluder_, ring_feature_;
+  std::vector<std::uint8_t> rough_, thin_, occluder_, ring_feature_;
 };
 
 }  // namespace ring_curvature
