@@ -10,7 +10,7 @@ namespace ring_curvature
 inline std::size_t smoothnessScratch(int K, int w, bool closed)
 {
   const std::size_t E = static_cast<std::size_t>(K) + 2 * static_cast<std::size_t>(closed ? w : 0);
-  return 3 * (E + 1) + (closed ? E : 0);  // the sums, and a closed ring's ranges across its seam
+  return 3 * (E + 1);
 }
 
 /// Smoothness of one ring's K samples (window +-w, w >= 1) into out[0, K) from its ranges `rho`, and

@@ -108,7 +108,7 @@ template <class At>
   all[2] = s2;
 }
 
-// nearGapSmoothness for the direct windows, in double, relative to each window's first sample:
+// The near-gap windows of the direct form, in double, relative to each window's first sample:
 // centred and left windows in one pass; a one-sided window equal to the centred one is not formed
 // again (min(v, v) is v); windows across a closed ring's seam wrap sample by sample.
 inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* L, const int* R, const double* rho,
@@ -145,14 +145,7 @@ inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* 
     }
     out[k] = static_cast<float>(var);
   };
-  for (int i = 0; i + 1 < num_seg; ++i)
-  {
-    const int p = seg[i], q = seg[i + 1];
-    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
-    for (int k = a1; k < a2; ++k) nearGap(k);
-    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
-    for (int k = b1; k < b2; ++k) nearGap(k);
-  }
+  forNearGap(K, w, seg, num_seg, nearGap);
 }
 }  // namespace
 

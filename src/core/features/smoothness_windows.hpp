@@ -33,6 +33,21 @@ template <class T>
   return std::max(T(0), s2 * ic - mean * mean - s1 * s1 * it);
 }
 
+// Calls f(k) for the samples within w of a segment's ends (seg: the segments' bounds, see
+// ringSmoothness), those whose windows a gap cuts short.
+template <class F>
+[[gnu::always_inline]] inline void forNearGap(int K, int w, const int* seg, int num_seg, const F& f)
+{
+  for (int i = 0; i + 1 < num_seg; ++i)
+  {
+    const int p = seg[i], q = seg[i + 1];
+    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
+    for (int k = a1; k < a2; ++k) f(k);
+    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
+    for (int k = b1; k < b2; ++k) f(k);
+  }
+}
+
 // The largest window (w) the direct form takes: smaller windows cost less from their own samples
 // than from the prefix sums' serial chain.
 constexpr int kMaxDirect = 4;
