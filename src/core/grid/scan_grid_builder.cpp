@@ -94,18 +94,23 @@ int ScanGrid::ringOf(std::uint32_t pos) const
 
 Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, ScanGrid& grid)
 {
-  grid.num_rings = 0;
+  // An empty grid, also what a rejected frame leaves (the input pass sizes the per-point arrays,
+  // and readOrganized the grid's, before it meets a bad ring).
+  const auto clear = [&grid] {
+    grid.num_rings = 0;
+    grid.ring_begin.assign(1, 0);
+    grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = grid.num_folded = 0;
+    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
+    grid.index.clear();
+    grid.state.clear();
+    grid.grid_pos.clear();
+    grid.azimuth.clear();
+    grid.duplicates.clear();
+    grid.linked.clear();
+    grid.up.clear();
+  };
+  clear();
   grid.organized = view.organized();
-  grid.ring_begin.assign(1, 0);
-  grid.index.clear();
-  grid.state.clear();
-  grid.grid_pos.clear();
-  grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = grid.num_folded = 0;
-  for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
-  grid.azimuth.clear();
-  grid.duplicates.clear();
-  grid.linked.clear();
-  grid.up.clear();
 
   Status st = checkLayout(view, params);
   if (!st) return st;
@@ -114,12 +119,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   st = readPoints(view, params, grid);
   if (!st)
   {
-    // (the input pass sized the per-point arrays, and readOrganized the grid's, before it met
-    // the bad ring)
-    grid.state.clear();
-    grid.grid_pos.clear();
-    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
-    grid.ring_begin.assign(1, 0);
+    clear();
     return st;
   }
   if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(view, params, grid);
