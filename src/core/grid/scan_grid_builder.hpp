@@ -1,5 +1,5 @@
 // The grid stage: builds the ring x azimuth ScanGrid from a PointCloudView in O(n). One file a
-// step: cloud_view_checks, input_pass, organized_placement, ring_sort / ring_order / ring_fold,
+// step: cloud_view_checks, input_pass, organized_placement, ring_sort / ring_order,
 // resolution, scan_grid_builder.cpp (duplicates, gather, links), vertical_neighbours.
 #pragma once
 
