@@ -3,7 +3,6 @@
 // closed ring. The default mode's small windows go to smoothness_direct.cpp.
 #include "features/smoothness.hpp"
 
-#include "features/smoothness_windows.hpp"
 #include "common/simd_clones.hpp"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 // The default mode's smoothness (Detrended, w <= kMaxDirect): each sample's windows from their
 // own samples, without prefix sums.
-#include "features/smoothness_windows.hpp"
+#include "features/smoothness.hpp"
 
 #include "common/simd_clones.hpp"
 
