@@ -175,38 +175,19 @@ void ScanGridBuilder::countRings(std::size_t n, const Params& params)
   // organized cloud's) would otherwise chain every increment to the store of the one before.
   const std::size_t slots = static_cast<std::size_t>(params.max_rings) + 1;
   ring_count_.assign(4 * slots, 0);
+  std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
+  const std::int32_t* const ring = ring_of_.data();
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4)
   {
-    std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
-    const std::int32_t* const ring = ring_of_.data();
-    const auto four = [count, ring, slots](std::size_t i) {
-      ++count[ring[i]];
-      ++count[slots + static_cast<std::size_t>(ring[i + 1])];
-      ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
-      ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
-    };
-    // Sixteen points of one ring count in one addition, but only where the first points come in
-    // runs: interleaved rings (velodyne firing order) would pay for the comparison in every block.
-    std::size_t changes = 0;
-    const std::size_t probe = std::min<std::size_t>(n, 256);
-    for (std::size_t j = 1; j < probe; ++j) changes += ring[j] != ring[j - 1] ? 1 : 0;
-    std::size_t i = 0;
-    for (; changes < probe / 8 && i + 16 <= n; i += 16)
-    {
-      const std::int32_t r0 = ring[i];
-      int same = 1;
-      for (std::size_t j = 1; j < 16; ++j) same &= ring[i + j] == r0 ? 1 : 0;
-      if (same != 0)
-      {
-        count[r0] += 16;
-        continue;
-      }
-      for (std::size_t j = i; j < i + 16; j += 4) four(j);
-    }
-    for (; i + 4 <= n; i += 4) four(i);
-    for (; i < n; ++i) ++count[ring[i]];
-    for (std::size_t r = 0; r < slots; ++r)
-      ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
-}
+    ++count[ring[i]];
+    ++count[slots + static_cast<std::size_t>(ring[i + 1])];
+    ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
+    ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
+  }
+  for (; i < n; ++i) ++count[ring[i]];
+  for (std::size_t r = 0; r < slots; ++r)
+    ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
 }
 
 void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)
