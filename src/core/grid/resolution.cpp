@@ -141,7 +141,7 @@ bool SpacingMedian::fromBracket(const float* d, std::size_t total, float& median
   const BracketCounts c = bracketPass(d, total, bitsOf(lo), bitsOf(hi), inside_.data());
   const std::size_t rank = c.n / 2;
   if (!(c.below <= rank && rank < c.below + c.m)) return false;
-  median = selectNth(inside_.data(), c.m, rank - c.below);
+  median = lo == hi ? lo : selectNth(inside_.data(), c.m, rank - c.below);  // (equal spacings: often)
   return true;
 }
 
