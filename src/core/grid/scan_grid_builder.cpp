@@ -169,21 +169,10 @@ void ScanGridBuilder::gatherGrid(const PointCloudView& view, ScanGrid& grid)
   }
   else
   {
-    const std::size_t W = view.width;
-    std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
     for (std::size_t p = 0; p < m; ++p)
     {
       const std::uint32_t i = index[p];
-      const std::uint8_t* rec;
-      if (view.height == 1)
-      {
-        rec = view.data + static_cast<std::size_t>(i) * view.point_step;
-      }
-      else
-      {
-        while (i >= (row + 1) * W) ++row;
-        rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
-      }
+      const std::uint8_t* const rec = view.record(i);
       gx[p] = readCoord(rec, view.x);
       gy[p] = readCoord(rec, view.y);
       gz[p] = readCoord(rec, view.z);
