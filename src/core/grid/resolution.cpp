@@ -4,6 +4,7 @@
 #include "grid/scan_grid_builder.hpp"
 
 #include "common/angles.hpp"
+#include "common/float_bits.hpp"
 #include "common/grow.hpp"
 #include "common/simd_clones.hpp"
 
@@ -11,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace ring_curvature
 {
@@ -40,12 +40,7 @@ inline bool kept(float d) { return (d > 1e-5f) & (d < 5.0f * kDeg); }
 // The same test on the bits read as a signed integer, for every float: non-negative floats
 // order like their bits, and negative ones (-0 and -NaN included) read as negative integers,
 // +inf and +NaN as integers above those of 5 deg. kept(d) iff keptAbove() < bitsOf(d) < keptUnder().
-inline std::int32_t bitsOf(float v)
-{
-  std::int32_t i;
-  std::memcpy(&i, &v, sizeof i);
-  return i;
-}
+inline std::int32_t bitsOf(float v) { return static_cast<std::int32_t>(detail::floatBits(v)); }
 inline std::int32_t keptAbove() { return bitsOf(1e-5f); }
 inline std::int32_t keptUnder() { return bitsOf(5.0f * kDeg); }
 
