@@ -37,9 +37,9 @@ void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
   }
 }
 
-// Eight points a group: all on the grid reads without a test, all off (organized padding) stores
-// the unlabelled values, and a mixed group (dual returns) reads each point's entries (position 0's
-// if none) and selects, as a branch would mispredict; floats as bits, so the compiler selects too.
+// Eight points a group: all on the grid reads without a test, any other group (dual returns,
+// organized padding) reads each point's entries (position 0's if none) and selects, as a branch
+// would mispredict; floats as bits, so the compiler selects too.
 void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
 {
   const std::uint32_t nan_bits = 0x7fc00000u;  // std::numeric_limits<float>::quiet_NaN()
@@ -73,16 +73,6 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
         out_smoothness[j] = smoothness[p];
         out_discontinuity[j] = discontinuity[p];
         out_primitive[j] = primitive[p];
-      }
-      continue;
-    }
-    if (count == 0)
-    {
-      for (std::size_t j = i; j < i + 8; ++j)
-      {
-        out_label[j] = static_cast<std::uint8_t>(Label::None);
-        out_curvature[j] = out_smoothness[j] = out_discontinuity[j] = nan_bits;
-        out_primitive[j] = -1;
       }
       continue;
     }
