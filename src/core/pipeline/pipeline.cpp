@@ -5,7 +5,9 @@
 #include "pipeline/output_gather.hpp"
 #include "pipeline/stages.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
 namespace ring_curvature
 {
@@ -121,9 +123,16 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out, Scope sco
                                out.discontinuity.data(),
                                out.primitive.data()};
   if (s.grid.size() > 0)
-    detail::gatherOutputGroups(o, 0, n);
-  else
-    detail::gatherOutput(o, 0, n);
+  {
+    detail::gatherOutput(o, n);
+  }
+  else  // no point on the grid
+  {
+    std::fill(out.label.begin(), out.label.end(), static_cast<std::uint8_t>(Label::None));
+    for (auto* v : {&out.curvature, &out.smoothness, &out.discontinuity})
+      std::fill(v->begin(), v->end(), std::numeric_limits<float>::quiet_NaN());
+    std::fill(out.primitive.begin(), out.primitive.end(), -1);
+  }
   countInto(out.label.data(), n, n, out);
   out.times.output = msSince(t);
   return Status::success();
