@@ -5,7 +5,6 @@
 #include "grid/scan_grid_builder.hpp"
 #include "common/float_bits.hpp"
 #include "grid/sort_keys.hpp"
-#include "ring_curvature/prefetch.hpp"
 
 #include "common/angles.hpp"
 #include "common/grow.hpp"
@@ -130,13 +129,13 @@ void ScanGridBuilder::sortEachRing(ScanGrid& grid)
 
 void ScanGridBuilder::scatterKeys(std::size_t n)
 {
-  // Points into their rings' next slots, keys made a block at a time in a loop that vectorizes. (Restrict locals: a key's store could alias next[], which would be reloaded.)
+  // Points into their rings' next slots, keys made a block at a time in a loop that vectorizes.
+  // (Restrict locals: a key's store could alias next[], which would be reloaded.)
   const std::int32_t* __restrict const ring_of = ring_of_.data();
   const float* __restrict const paz = paz_.data();
   std::uint32_t* __restrict const next = bin_start_.data();
   std::uint64_t* __restrict const unsorted = keys_tmp_.data();
   constexpr std::size_t kBlock = 512;  // 4 KB of keys on the stack, in L1 until scattered
-  constexpr std::size_t kScatterAhead = 32;  // keys (four lines)
   alignas(64) std::uint64_t keys[kBlock];
   for (std::size_t i0 = 0; i0 < n; i0 += kBlock)
   {
@@ -146,9 +145,6 @@ void ScanGridBuilder::scatterKeys(std::size_t n)
     {
       const std::int32_t r = ring_of[i0 + j];
       if (r < 0) continue;
-      // 16-64 interleaved store streams (one per ring) are more than hardware prefetch follows,
-      // and their lines are cold: ask for the line kScatterAhead keys ahead of the ring's cursor.
-      detail::prefetchForWrite(unsorted, (std::size_t{next[r]} + kScatterAhead) * sizeof *unsorted);
       unsorted[next[r]++] = keys[j];
     }
   }

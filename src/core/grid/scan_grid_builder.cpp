@@ -6,7 +6,6 @@
 #include "common/angles.hpp"
 #include "grid/cloud_view_checks.hpp"
 #include "grid/record_read.hpp"
-#include "ring_curvature/prefetch.hpp"
 #include "common/simd_clones.hpp"
 
 #include <algorithm>
@@ -19,8 +18,7 @@ namespace ring_curvature
 namespace
 {
 
-// Grid coordinates from the input pass's float32 copies (float32 widens to double exactly); the
-// four store streams' lines are cold, so each is prefetched kWriteAhead ahead, once a line.
+// Grid coordinates from the input pass's float32 copies (float32 widens to double exactly).
 RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
                               const float* __restrict py, const float* __restrict pz, const double* __restrict prange,
                               double* __restrict gx, double* __restrict gy, double* __restrict gz,
@@ -28,14 +26,6 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 {
   for (std::size_t p = 0; p < m; ++p)
   {
-    if ((p & 7) == 0)
-    {
-      const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
-      detail::prefetchForWrite(gx, ahead);
-      detail::prefetchForWrite(gy, ahead);
-      detail::prefetchForWrite(gz, ahead);
-      detail::prefetchForWrite(gr, ahead);
-    }
     const std::uint32_t i = index[p];
     gx[p] = px[i];
     gy[p] = py[i];
