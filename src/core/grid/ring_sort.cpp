@@ -72,25 +72,17 @@ void ScanGridBuilder::sortRings(ScanGrid& grid, bool fold_identical)
   //    range of one of the two keys before): kept off the sort, they get their twin's state and
   //    grid position, removeDuplicates' verdict exactly (same firing, never a representative, same
   //    range). Needs same_firing > 0. If the first kFoldProbe keys fold nothing, the rest stay as is.
-  follower_runs_.resize(2 * R);
   prange_[n] = -1.0;  // no point's range: foldRing's start value (readPoints leaves room for it)
   growTo(followers_, n + 1);  // (foldRing writes one entry past the count)
   std::uint32_t* const next = bin_start_.data();
-  std::size_t num_followers = 0, runs = 0, tested = 0;
+  std::size_t num_followers = 0, tested = 0;
   for (std::size_t r = 0; fold_identical && r < R && (num_followers > 0 || tested < kFoldProbe); ++r)
   {
     const std::uint32_t b = grid.ring_begin[r], k = next[r] - b;
-    const auto first = static_cast<std::uint32_t>(num_followers);
     next[r] = b + foldRing(keys_tmp_.data() + b, k, n, prange_.data(), followers_.data(), num_followers);
     tested += k;
-    if (num_followers > first)  // the ring's followers, for resolveFollowers
-    {
-      follower_runs_[2 * runs] = first;
-      follower_runs_[2 * runs++ + 1] = static_cast<std::uint32_t>(num_followers);
-    }
   }
   num_followers_ = num_followers;
-  num_follower_runs_ = runs;
   sortEachRing(grid);
 }
 
@@ -185,33 +177,21 @@ std::uint32_t ScanGridBuilder::foldRing(std::uint64_t* keys, std::uint32_t k, st
 
 void ScanGridBuilder::resolveFollowers(ScanGrid& grid)
 {
-  // In list order per ring, a follower's twin is a kept point (decided by removeDuplicates) or an
-  // earlier follower (a third identical return), decided by then. The rings' runs advance side by
-  // side, kBlock input points at a time, so nearby followers share the lines of state / grid_pos.
+  // In list order, a follower's twin is a kept point (decided by removeDuplicates) or an earlier
+  // follower of its ring (a third identical return), decided by then.
   PointState* const state = grid.state.data();
   std::int32_t* const grid_pos = grid.grid_pos.data();
   // Counted in a register: through `++(duplicate ? a : b)` each would wait on the store before.
   std::size_t duplicates = 0;
-  const Follower* const followers = followers_.data();
-  std::uint32_t* const runs = follower_runs_.data();  // each run's next follower, and its end
-  const std::size_t num_runs = num_follower_runs_;
-  constexpr std::size_t kBlock = 2048;  // input points
-  for (std::size_t limit = kBlock; limit < grid.num_input + kBlock; limit += kBlock)
-    for (std::size_t l = 0; l < num_runs; ++l)
-    {
-      std::uint32_t k = runs[2 * l];
-      const std::uint32_t e = runs[2 * l + 1];
-      for (; k < e && followers[k].point < limit; ++k)
-      {
-        const Follower& f = followers[k];
-        const PointState twin = state[f.of];
-        const PointState s = twin == PointState::OnGrid ? PointState::Duplicate : twin;
-        state[f.point] = s;
-        grid_pos[f.point] = grid_pos[f.of];  // the twin's position, or its representative's
-        duplicates += s == PointState::Duplicate ? 1 : 0;
-      }
-      runs[2 * l] = k;
-    }
+  for (std::size_t k = 0; k < num_followers_; ++k)
+  {
+    const Follower& f = followers_[k];
+    const PointState twin = state[f.of];
+    const PointState s = twin == PointState::OnGrid ? PointState::Duplicate : twin;
+    state[f.point] = s;
+    grid_pos[f.point] = grid_pos[f.of];  // the twin's position, or its representative's
+    duplicates += s == PointState::Duplicate ? 1 : 0;
+  }
   grid.num_duplicates += duplicates;
   grid.num_second_returns += num_followers_ - duplicates;
   grid.num_folded = num_followers_;

@@ -79,8 +79,6 @@ private:
   std::vector<std::uint8_t> wide_;  // and where they go beyond +-pi
   std::vector<Follower> followers_;  // the first num_followers_ are this frame's
   std::size_t num_followers_ = 0;
-  std::vector<std::uint32_t> follower_runs_;  // (begin, end) in followers_ of each ring's (resolveFollowers)
-  std::size_t num_follower_runs_ = 0;
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings
