@@ -146,22 +146,6 @@ __attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEight
   return static_cast<unsigned>(__builtin_popcount(mask));
 }
 
-// The placement's store streams, on lines last written a frame ago: each one's lines for the 16
-// points kWriteAhead places ahead, asked for once every 16 columns (always_inline: GCC deletes
-// calls to a function of prefetches alone).
-__attribute__((always_inline)) inline void prefetchPlacement(const OrganizedGrid& out, std::size_t i, std::size_t w)
-{
-  constexpr std::size_t A = kWriteAhead;
-  prefetchForWrite(out.index, (w + A) * sizeof(std::uint32_t));
-  prefetchForWrite(out.az, (w + A) * sizeof(float));
-  for (const double* d : {out.x, out.y, out.z, out.range})
-  {
-    prefetchForWrite(d, (w + A) * sizeof(double));
-    prefetchForWrite(d, (w + A + 8) * sizeof(double));
-  }
-  prefetchForWrite(out.grid_pos, (i + A) * sizeof(std::int32_t));
-  prefetchForWrite(out.state, i + A);
-}
 }  // namespace
 
 __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::uint8_t* row, const RecordLayout& L,
@@ -178,7 +162,6 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   {
     const std::size_t i = i0 + c;
     prefetchRecords(row, c + kRecordsAhead, 8, L.step, L.ox);
-    if ((c & 15) == 0) prefetchPlacement(out, i, w);
     __m256 x, y, z;
     loadXyzAvx2(row + c * L.step + L.ox, L.step, x, y, z);
     const __m256d r0 = range4Avx2(_mm256_castps256_ps128(x), _mm256_castps256_ps128(y), _mm256_castps256_ps128(z));
