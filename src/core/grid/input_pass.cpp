@@ -171,9 +171,23 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
 // increments would keep the input loops from vectorizing.
 void ScanGridBuilder::countRings(std::size_t n, const Params& params)
 {
-  ring_count_.assign(static_cast<std::size_t>(params.max_rings) + 1, 0);
+  // Four interleaved tallies, summed after: rings that arrive one after another (KITTI's, an
+  // organized cloud's) would otherwise chain every increment to the store of the one before.
+  const std::size_t slots = static_cast<std::size_t>(params.max_rings) + 1;
+  ring_count_.assign(4 * slots, 0);
   std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
-  for (std::size_t i = 0; i < n; ++i) ++count[ring_of_[i]];
+  const std::int32_t* const ring = ring_of_.data();
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4)
+  {
+    ++count[ring[i]];
+    ++count[slots + static_cast<std::size_t>(ring[i + 1])];
+    ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
+    ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
+  }
+  for (; i < n; ++i) ++count[ring[i]];
+  for (std::size_t r = 0; r < slots; ++r)
+    ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
 }
 
 void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)
