@@ -34,7 +34,9 @@ float selectNth(float* v, std::size_t n, std::size_t k)
   int top = 31;               // highest bit still undecided
   while (((lo ^ hi) >> top) == 0) --top;
   constexpr int kDigit = 11;
-  std::uint32_t counts[1u << kDigit];
+  // Two histograms, for even and odd positions: runs of equal digits (the common case) would
+  // otherwise chain every increment to the store of the one before.
+  std::uint32_t counts[1u << kDigit], counts_odd[1u << kDigit];
   // Candidates after the first narrowing, when they fit (one past the last so that the
   // branch-free copy below may write one slot beyond the candidates).
   constexpr std::size_t kLocal = 4095;
@@ -47,7 +49,15 @@ float selectNth(float* v, std::size_t n, std::size_t k)
     const int sh = std::max(0, top + 1 - digit);
     const std::uint32_t mask = (1u << (top + 1 - sh)) - 1u;
     std::fill(counts, counts + mask + 1, 0u);
-    for (std::size_t i = 0; i < m; ++i) ++counts[(orderedKey(c[i]) >> sh) & mask];
+    std::fill(counts_odd, counts_odd + mask + 1, 0u);
+    std::size_t i2 = 0;
+    for (; i2 + 1 < m; i2 += 2)
+    {
+      ++counts[(orderedKey(c[i2]) >> sh) & mask];
+      ++counts_odd[(orderedKey(c[i2 + 1]) >> sh) & mask];
+    }
+    if (i2 < m) ++counts[(orderedKey(c[i2]) >> sh) & mask];
+    for (std::uint32_t d = 0; d <= mask; ++d) counts[d] += counts_odd[d];
     std::uint32_t bucket = 0;
     std::size_t below = 0;
     while (below + counts[bucket] <= k) below += counts[bucket++];
