@@ -34,6 +34,20 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
   }
 }
 
+// How many samples from p on (whole groups of eight, before e) are each at least `same_firing`
+// after their predecessor: the stretch removeDuplicates keeps as is (NaN counts as kept, as there).
+std::uint32_t keptStretch(const float* az, std::uint32_t p, std::uint32_t e, float same_firing)
+{
+  std::uint32_t q = p;
+  for (; q + 8 <= e; q += 8)
+  {
+    bool close = false;
+    for (std::uint32_t t = q; t < q + 8; ++t) close |= az[t] - az[t - 1] < same_firing;
+    if (close) break;
+  }
+  return q - p;
+}
+
 // Links along a ring (b, e) against each predecessor, in loops of their own so that they vectorize.
 RC_SIMD_CLONES void linkAzimuths(std::size_t b, std::size_t e, const float* __restrict az, float max_step,
                                  std::uint8_t* __restrict linked)
@@ -207,6 +221,25 @@ void ScanGridBuilder::removeDuplicates(const Params& params, ScanGrid& grid)
     float rep_az = 0.0f;
     for (std::uint32_t p = b; p < e; ++p)
     {
+      // A stretch each at least a firing after its predecessor is kept whole: each is that far
+      // from the representative too, so the loop below would keep every one.
+      if (rep >= 0)
+      {
+        const std::uint32_t k = keptStretch(sorted_az_.data(), p, e, same_firing);
+        if (k > 0)
+        {
+          if (w != p)
+          {
+            std::memmove(tmp_index_.data() + w, tmp_index_.data() + p, k * sizeof(std::uint32_t));
+            std::memmove(sorted_az_.data() + w, sorted_az_.data() + p, k * sizeof(float));
+          }
+          w += k;
+          p += k;
+          rep = tmp_index_[w - 1];
+          rep_az = sorted_az_[w - 1];
+          if (p >= e) break;
+        }
+      }
       const std::uint32_t i = tmp_index_[p];
       const float az = sorted_az_[p];
       if (rep >= 0 && az - rep_az < same_firing)
