@@ -7,7 +7,6 @@ set(RC_CORE_SOURCES
   src/core/grid/organized_avx2.cpp
   src/core/grid/ring_sort.cpp
   src/core/grid/ring_order.cpp
-  src/core/grid/ring_fold.cpp
   src/core/grid/resolution.cpp
   src/core/grid/vertical_neighbours.cpp
   src/core/grid/scan_grid_builder.cpp

@@ -1,9 +1,8 @@
 // The output stage: every input point's label, features and primitive are its grid position's,
-// bit for bit, and the points off the grid get none. The stage runs in groups of eight that are
-// all on the grid, all off it or mixed, and one at a time for the rest, so the first frame mixes
-// every state within most groups, has stretches of groups with every point off the grid and
-// groups with all on it, and ends off a multiple of eight; the second comes ring by ring, with
-// gaps, duplicates and second returns.
+// bit for bit, and the points off the grid get none. The stage selects point by point between the
+// two, so the first frame mixes every state among neighbours and has stretches with every point
+// off the grid and with all on it; the second comes ring by ring, with gaps, duplicates and
+// second returns.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -34,33 +34,19 @@ __attribute__((always_inline)) inline void appendLanes(const V8f& v, std::uint32
   std::memcpy(out + m, &packed, sizeof packed);
   m += static_cast<std::size_t>(__builtin_popcount(mask));
 }
-// The same for the wanted lanes of x[i, n) that group(j, v, in) gives for j = i, i + 8, ...,
-// two groups a step (one sum across the lanes for both masks); returns where it stopped.
+// The same for the wanted lanes of x[i, n) that group(j, v, in) gives for j = i, i + 8, ...;
+// returns where it stopped.
 template <class Group>
 __attribute__((always_inline)) inline std::size_t appendGroups(std::size_t i, std::size_t n, Group group, float* out,
                                                                std::size_t& m)
 {
   const V8i bit = {1, 2, 4, 8, 16, 32, 64, 128};
-  for (; i + 16 <= n; i += 16)
-  {
-    V8f a, b;
-    V8i in_a, in_b;
-    group(i, a, in_a);
-    group(i + 8, b, in_b);
-    V8i s = (in_a & bit) | (in_b & (bit << 8));  // the masks' bits, summed across the lanes
-    s += __builtin_shufflevector(s, s, 4, 5, 6, 7, 0, 1, 2, 3);
-    s += __builtin_shufflevector(s, s, 2, 3, 0, 1, 6, 7, 4, 5);
-    s += __builtin_shufflevector(s, s, 1, 0, 3, 2, 5, 4, 7, 6);
-    const auto mask = static_cast<std::uint32_t>(s[0]);
-    appendLanes(a, mask & 0xFFu, out, m);
-    appendLanes(b, mask >> 8, out, m);
-  }
   for (; i + 8 <= n; i += 8)
   {
     V8f a;
     V8i in_a;
     group(i, a, in_a);
-    V8i s = in_a & bit;
+    V8i s = in_a & bit;  // the mask's bits, summed across the lanes
     s += __builtin_shufflevector(s, s, 4, 5, 6, 7, 0, 1, 2, 3);
     s += __builtin_shufflevector(s, s, 2, 3, 0, 1, 6, 7, 4, 5);
     s += __builtin_shufflevector(s, s, 1, 0, 3, 2, 5, 4, 7, 6);

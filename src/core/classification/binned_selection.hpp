@@ -73,13 +73,6 @@ struct BinnedRing
   std::uint32_t find(std::size_t k, std::uint32_t from, std::size_t& below) const
   {
     std::uint32_t b = from;
-    for (; b + 16 <= kBins; b += 16)  // 16 bins at a time first: most bins are empty
-    {
-      std::uint32_t s = 0;
-      for (std::uint32_t j = 0; j < 16; ++j) s += count[b + j];
-      if (below + s > k) break;
-      below += s;
-    }
     for (; below + count[b] <= k; ++b) below += count[b];
     return b;
   }

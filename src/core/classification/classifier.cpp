@@ -53,6 +53,15 @@ std::uint32_t nextPair(const Label* lab, const std::uint8_t* linked, std::uint32
 // (a label store would otherwise make the compiler reload every pointer). An ablated feature
 // (paper Table 2) arrives as a threshold no value exceeds. Isolated points stay None.
 
+// Rough over the label l where S is high, None where no feature is defined.
+inline std::uint8_t finalLabel(std::uint8_t l, float k, float S, float D, float smoothness_high)
+{
+  l = S > smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
+  const int undefined =
+      static_cast<int>(std::isnan(S)) & static_cast<int>(std::isnan(k)) & static_cast<int>(std::isnan(D));
+  return undefined != 0 ? static_cast<std::uint8_t>(Label::None) : l;
+}
+
 // Algorithm 1, line by line (NaN compares false, so undefined features fall through).
 RC_SIMD_CLONES void labelQuartile(const Features& f, std::size_t b, std::size_t n, const RingThresholds& t, bool use_curvature,
                    Label* label)
@@ -71,10 +80,7 @@ RC_SIMD_CLONES void labelQuartile(const Features& f, std::size_t b, std::size_t 
     l = edge ? static_cast<std::uint8_t>(Label::Edge) : l;
     l = corner ? static_cast<std::uint8_t>(Label::Corner) : l;
     l = plane ? static_cast<std::uint8_t>(Label::Plane) : l;
-    l = S > t.smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
-    const int undefined =
-        static_cast<int>(std::isnan(S)) & static_cast<int>(std::isnan(k)) & static_cast<int>(std::isnan(D));
-    lab[i] = undefined != 0 ? static_cast<std::uint8_t>(Label::None) : l;
+    lab[i] = finalLabel(l, k, S, D, t.smoothness_high);
   }
 }
 
@@ -104,10 +110,7 @@ RC_SIMD_CLONES void labelRobust(const Features& f, const double* range_b, std::s
     std::uint8_t l = static_cast<std::uint8_t>(Label::Plane);
     l = turn_high ? static_cast<std::uint8_t>(Label::Edge) : l;
     l = jump_high ? static_cast<std::uint8_t>(Label::Corner) : l;
-    l = S > t.smoothness_high ? static_cast<std::uint8_t>(Label::Rough) : l;
-    const int undefined =
-        static_cast<int>(std::isnan(S)) & static_cast<int>(std::isnan(k)) & static_cast<int>(std::isnan(D));
-    lab[i] = undefined != 0 ? static_cast<std::uint8_t>(Label::None) : l;
+    lab[i] = finalLabel(l, k, S, D, t.smoothness_high);
   }
 }
 }  // namespace

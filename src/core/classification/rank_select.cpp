@@ -2,22 +2,16 @@
 #include "classification/rank_select.hpp"
 #include "common/float_bits.hpp"
 
-#include "ring_curvature/scan_grid.hpp"
-
 #include <cstdint>
-#include <cstring>
 #include <limits>
 
 namespace ring_curvature
 {
 
-namespace
-{
 using detail::orderedKey;
 using detail::rankOf;
 
-// Value of rank k in v[0, n) (reordered, never overwritten).
-float selectRank(float* v, std::size_t n, std::size_t k)
+float selectNth(float* v, std::size_t n, std::size_t k)
 {
   // Radix selection, most significant digit first (nth_element's element without its unpredictable
   // comparisons). Digits start at the highest bit in which the keys differ, as a selection's values
@@ -100,13 +94,10 @@ float selectRank(float* v, std::size_t n, std::size_t k)
   std::nth_element(c, c + k, c + m);
   return c[k];
 }
-}  // namespace
 
 float selectQuantile(float* v, std::size_t n, double q)
 {
-  return n == 0 ? std::numeric_limits<float>::quiet_NaN() : selectRank(v, n, rankOf(n, q));
+  return n == 0 ? std::numeric_limits<float>::quiet_NaN() : selectNth(v, n, rankOf(n, q));
 }
-
-float selectNth(float* v, std::size_t n, std::size_t k) { return selectRank(v, n, k); }
 
 }  // namespace ring_curvature

@@ -22,10 +22,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // Copies the finite values of v[b, e) to out (room for e - b); returns how many.
 std::size_t gatherFinite(const std::vector<float>& v, std::uint32_t b, std::uint32_t e, float* out)
 {
-  std::size_t n = 0;
-  for (std::uint32_t p = b; p < e; ++p)
-    if (std::isfinite(v[p])) out[n++] = v[p];
-  return n;
+  return static_cast<std::size_t>(
+      std::copy_if(v.begin() + b, v.begin() + e, out, [](float x) { return std::isfinite(x); }) - out);
 }
 
 // median + k * 1.4826 * MAD of buf[0, n) (buf is reordered).

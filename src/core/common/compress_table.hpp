@@ -1,6 +1,6 @@
-// Lane tables: for each 8-bit mask the lanes of its set bits in order (moving the marked lanes of an
-// eight-lane vector to its front: left-packing, as the thresholds' candidate compaction does), the
-// same for four 64-bit elements, and each 8-bit mask's prefix counts.
+// The lane table of left-packing: for each 8-bit mask the lanes of its set bits in order, which
+// move the marked lanes of an eight-lane vector to its front (the thresholds' candidate copies, the
+// organized pass's placement).
 #pragma once
 
 #include <cstdint>
@@ -21,26 +21,5 @@ constexpr CompressTable makeCompressTable()
   return t;
 }
 inline constexpr CompressTable kCompress = makeCompressTable();
-
-/// For each 4-bit mask, the 32-bit lanes that move the marked 64-bit elements of a four-element
-/// vector to its front (two lanes an element): left-packing doubles or 64-bit keys.
-struct PairTable
-{
-  std::int32_t lane[16][8];
-};
-constexpr PairTable makePairTable()
-{
-  PairTable t{};
-  for (int mask = 0; mask < 16; ++mask)
-    for (int l = 0, j = 0; l < 4; ++l)
-      if ((mask >> l) & 1)
-      {
-        t.lane[mask][2 * j] = 2 * l;
-        t.lane[mask][2 * j + 1] = 2 * l + 1;
-        ++j;
-      }
-  return t;
-}
-inline constexpr PairTable kPairs = makePairTable();
 
 }  // namespace ring_curvature

@@ -175,8 +175,8 @@ RC_SIMD_CLONES void FeatureComputer::chordCurvature(const ScanGrid& g, const Par
   float* const V2 = DOT + K;
   float* const U2 = V2 + K;
   chordSamples(Ki, rpf, cf, res, P.chord_length, P.max_chord_samples, H);
-  if (chordProducts(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2))
-    chordProductsLibm(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2);
+  if (chordProducts(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2, false))
+    chordProducts(Ki, cf, H, L, Rr, azp, rpf, CROSS, DOT, V2, U2, true);
   float* const turning = out.turning.data() + S.b;
   float* const curvature = out.curvature.data() + S.b;
   for (std::uint32_t k = 0; k < K; ++k)

@@ -56,16 +56,10 @@ inline bool chordKernel(int K, float c, const int* H, const int* L, const int* R
 
 RC_SIMD_CLONES bool chordProducts(int K, float c, const int* H, const int* L, const int* R,
                                   const float* __restrict az, const float* __restrict rho, float* __restrict cross,
-                                  float* __restrict dot, float* __restrict v2, float* __restrict u2)
+                                  float* __restrict dot, float* __restrict v2, float* __restrict u2, bool libm)
 {
+  if (libm) return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, smallSinCos<float>);
   return chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, polySinCos<float>);
-}
-// The same with the libm branch, for a ring where chordProducts met a large angle.
-void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R, const float* __restrict az,
-                       const float* __restrict rho, float* __restrict cross, float* __restrict dot,
-                       float* __restrict v2, float* __restrict u2)
-{
-  chordKernel(K, c, H, L, R, az, rho, cross, dot, v2, u2, smallSinCos<float>);
 }
 
 // Chord mode: samples per half chord for a chord of `chord` metres (spacing ~ rho cos(phi)

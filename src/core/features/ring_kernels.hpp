@@ -44,12 +44,10 @@ inline void storeCurvature(T turn, T len, bool defined, float& turning, float& c
 }
 
 /// Chord mode's developed chords of samples [0, K), vertex k to k - min(H, L) and k + min(H, R), on
-/// the padded az, rho: cross, dot, squared lengths. True if an angle exceeded the polynomial's range.
+/// the padded az, rho: cross, dot, squared lengths. True if an angle exceeded the polynomial's range
+/// (then call again with `libm`: the libm sine and cosine where an angle is large).
 bool chordProducts(int K, float c, const int* H, const int* L, const int* R, const float* az, const float* rho,
-                   float* cross, float* dot, float* v2, float* u2);
-/// The same with the libm sine and cosine where an angle is large (after chordProducts said so).
-void chordProductsLibm(int K, float c, const int* H, const int* L, const int* R, const float* az, const float* rho,
-                       float* cross, float* dot, float* v2, float* u2);
+                   float* cross, float* dot, float* v2, float* u2, bool libm);
 /// Chord mode: samples per half chord for a chord of `chord` metres at each range, in [1, max_h].
 void chordSamples(int K, const float* rho, float cos_phi, float dtheta, float chord, int max_h, int* H);
 /// Jump mode: the discontinuity of link (k-1, k) of each sample k from the padded ranges `rp`,

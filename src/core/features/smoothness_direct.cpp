@@ -1,6 +1,6 @@
 // The default mode's smoothness (Detrended, w <= kMaxDirect): each sample's windows from their
 // own samples, without prefix sums.
-#include "features/smoothness_windows.hpp"
+#include "features/smoothness.hpp"
 
 #include "common/simd_clones.hpp"
 
@@ -76,13 +76,6 @@ template <class At>
   s0 = s1 = s2 = 0;
   for (std::size_t j = 0; j < n; ++j) addWindowSample(at(j) - ref, j, jbar, s0, s1, s2);
 }
-// The same for a window of ring samples first .. first + n - 1 across the seam of a closed ring.
-[[gnu::always_inline]] inline void seamWindowSums(const double* rho, int K, std::ptrdiff_t first, std::size_t n,
-                                                  double& s0, double& s1, double& s2)
-{
-  windowSums(n, s0, s1, s2, [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
-}
-
 // nearGapDirect's sums, and of the first n_left samples the sum of (j - jbar_l) d: the left window's
 // sums of d and d^2 are the whole's after n_left steps (the same additions in the same order).
 template <class At>
@@ -108,9 +101,9 @@ template <class At>
   all[2] = s2;
 }
 
-// nearGapSmoothness for the direct windows, in double, relative to each window's first sample:
+// The near-gap windows of the direct form, in double, relative to each window's first sample:
 // centred and left windows in one pass; a one-sided window equal to the centred one is not formed
-// again (min(v, v) is v); windows across a closed ring's seam wrap sample by sample.
+// again (min(v, v) is v).
 inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* L, const int* R, const double* rho,
                           const double* ic, const double* it, float* out)
 {
@@ -123,13 +116,12 @@ inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* 
       return;
     }
     const std::ptrdiff_t first = k - a;  // ring sample of the window's first
-    const bool in_place = first >= 0 && first + static_cast<std::ptrdiff_t>(n) <= K;
+    // ring sample first + j, across the seam of a closed ring
+    const auto at = [&](std::ptrdiff_t from) {
+      return [=](std::size_t j) { return wrappedRange(rho, K, from + static_cast<std::ptrdiff_t>(j)); };
+    };
     double all[3], left[3];
-    if (in_place)
-      sharedWindowSums(n, n_left, all, left, [rs = rho + first](std::size_t j) { return rs[j]; });
-    else
-      sharedWindowSums(n, n_left, all, left,
-                       [&](std::size_t j) { return wrappedRange(rho, K, first + static_cast<std::ptrdiff_t>(j)); });
+    sharedWindowSums(n, n_left, all, left, at(first));
     double var = residualVariance(all[0], all[1], all[2], ic[n], it[n]);
     if (n_left >= 3 && z > 0)
       var = std::min(var, residualVariance(left[0], left[1], left[2], ic[n_left], it[n_left]));
@@ -137,22 +129,12 @@ inline void nearGapDirect(int K, int w, const int* seg, int num_seg, const int* 
     if (n_right >= 3 && a > 0)
     {
       double s0, s1, s2;
-      if (in_place)
-        windowSums(n_right, s0, s1, s2, [rs = rho + k](std::size_t j) { return rs[j]; });
-      else
-        seamWindowSums(rho, K, k, n_right, s0, s1, s2);
+      windowSums(n_right, s0, s1, s2, at(k));
       var = std::min(var, residualVariance(s0, s1, s2, ic[n_right], it[n_right]));
     }
     out[k] = static_cast<float>(var);
   };
-  for (int i = 0; i + 1 < num_seg; ++i)
-  {
-    const int p = seg[i], q = seg[i + 1];
-    const int a1 = std::max(p, 0), a2 = std::min({p + w, q, K});
-    for (int k = a1; k < a2; ++k) nearGap(k);
-    const int b1 = std::max({q - w, a1, a2}), b2 = std::min(q, K);
-    for (int k = b1; k < b2; ++k) nearGap(k);
-  }
+  forNearGap(K, w, seg, num_seg, nearGap);
 }
 }  // namespace
 

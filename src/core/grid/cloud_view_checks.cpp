@@ -2,6 +2,7 @@
 
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace ring_curvature
 {
@@ -85,14 +86,9 @@ Status checkLayout(const PointCloudView& v, const Params& params)
     return Status::error("cloud has no 'ring' field and is unorganized (height 1): use a driver that publishes "
                          "the per-point ring, or set ring_from_elevation to derive rings from elevation angles");
   }
-  if (v.time.present())
+  for (const auto& c : {std::make_pair("time", &v.time), std::make_pair("intensity", &v.intensity)})
   {
-    Status st = checkField("time", v.time, v.point_step);
-    if (!st) return st;
-  }
-  if (v.intensity.present())
-  {
-    Status st = checkField("intensity", v.intensity, v.point_step);
+    Status st = c.second->present() ? checkField(c.first, *c.second, v.point_step) : Status::success();
     if (!st) return st;
   }
   const FieldView* used[] = {&v.x, &v.y, &v.z, &v.ring};
@@ -109,6 +105,5 @@ Status checkLayout(const PointCloudView& v, const Params& params)
   }
   return Status::success();
 }
-
 
 }  // namespace ring_curvature

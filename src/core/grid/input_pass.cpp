@@ -46,15 +46,15 @@ inline void storePoint(const PointEntries& out, std::size_t i, double x, double 
   out.grid_pos[i] = -1;
 }
 
-// The common layouts: float32 x, y, z at fixed offsets and a uint16 ring field (`has_ring`) or one
-// ring for all (`fixed_ring`; `oring` need only lie in the record). No branches or early exits, so
-// it vectorizes: returns the largest ring read, for the caller to reject the frame after the loop.
+// The common layout: float32 x, y, z at fixed offsets and a uint16 ring field. No branches or
+// early exits, so it vectorizes: returns the largest ring read, for the caller to reject the frame
+// after the loop.
 RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data, std::size_t n, std::size_t step,
                                             std::size_t ox, std::size_t oy, std::size_t oz, std::size_t oring,
-                                            bool has_ring, std::int32_t fixed_ring, double rmin, double rmax,
-                                            double* __restrict range_out, float* __restrict px, float* __restrict py,
-                                            float* __restrict pz, std::int32_t* __restrict ring_out,
-                                            PointState* __restrict state, std::int32_t* __restrict grid_pos)
+                                            double rmin, double rmax, double* __restrict range_out,
+                                            float* __restrict px, float* __restrict py, float* __restrict pz,
+                                            std::int32_t* __restrict ring_out, PointState* __restrict state,
+                                            std::int32_t* __restrict grid_pos)
 {
   const PointEntries out{range_out, px, py, pz, ring_out, state, grid_pos};
   std::uint32_t max_read = 0;
@@ -64,9 +64,8 @@ RC_SIMD_CLONES std::uint32_t readXyzRecords(const std::uint8_t* __restrict data,
     const float fx = readFloat32(rec + ox), fy = readFloat32(rec + oy), fz = readFloat32(rec + oz);
     std::uint16_t r16;
     std::memcpy(&r16, rec + oring, sizeof r16);
-    max_read = has_ring ? std::max<std::uint32_t>(max_read, r16) : max_read;
-    const std::int32_t ring = has_ring ? static_cast<std::int32_t>(r16) : fixed_ring;
-    storePoint(out, i, fx, fy, fz, ring, rmin, rmax);
+    max_read = std::max<std::uint32_t>(max_read, r16);
+    storePoint(out, i, fx, fy, fz, static_cast<std::int32_t>(r16), rmin, rmax);
   }
   return max_read;
 }
@@ -76,18 +75,6 @@ RC_SIMD_CLONES void azimuths(std::size_t n, const float* __restrict x, const flo
                              float* __restrict azimuth)
 {
   for (std::size_t i = 0; i < n; ++i) azimuth[i] = fastAtan2(y[i], x[i]);
-}
-
-// The input pass over records [0, n) of a common layout (see readXyzRecords), with the azimuths.
-std::uint32_t readRecords(const std::uint8_t* data, std::size_t n, std::size_t step, std::size_t ox,
-                          std::size_t oy, std::size_t oz, std::size_t oring, bool has_ring, std::int32_t fixed_ring,
-                          double rmin, double rmax, double* range_out, float* px, float* py, float* pz, float* paz,
-                          std::int32_t* ring_out, PointState* state, std::int32_t* grid_pos)
-{
-  const std::uint32_t max_read = readXyzRecords(data, n, step, ox, oy, oz, oring, has_ring, fixed_ring, rmin, rmax,
-                                                range_out, px, py, pz, ring_out, state, grid_pos);
-  azimuths(n, px, py, paz);
-  return max_read;
 }
 
 // The error for point i whose ring field holds r, outside [0, max_rings).
@@ -129,17 +116,7 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   };
   const bool fast = view.x.type == ScalarType::Float32 && view.y.type == ScalarType::Float32 &&
                     view.z.type == ScalarType::Float32;
-  Status st = Status::success();
-  if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
-  {
-    const std::uint32_t max_read = readRecords(
-        view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
-        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), true, 0, rmin, rmax,
-        prange_.data(), px_.data(), py_.data(), pz_.data(), paz_.data(), ring_of_.data(), grid.state.data(),
-        grid.grid_pos.data());
-    if (max_read >= static_cast<std::uint32_t>(params.max_rings)) return firstRing16Error();
-  }
-  else if (fast && view.organized())
+  if (fast && view.organized())
   {
     std::uint32_t largest = 0;
     if (readOrganized(view, params, grid, largest))
@@ -149,8 +126,15 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
       grid.num_rings = static_cast<int>(view.height);
       return Status::success();
     }
-    st = readOrganizedRows(view, params, grid);
-    if (!st) return st;
+  }
+  if (fast && !view.organized() && view.ring.present() && view.ring.type == ScalarType::UInt16)
+  {
+    const std::uint32_t max_read = readXyzRecords(
+        view.data, n, view.point_step, static_cast<std::size_t>(view.x.offset), static_cast<std::size_t>(view.y.offset),
+        static_cast<std::size_t>(view.z.offset), static_cast<std::size_t>(view.ring.offset), rmin, rmax, prange_.data(),
+        px_.data(), py_.data(), pz_.data(), ring_of_.data(), grid.state.data(), grid.grid_pos.data());
+    azimuths(n, px_.data(), py_.data(), paz_.data());
+    if (max_read >= static_cast<std::uint32_t>(params.max_rings)) return firstRing16Error();
   }
   else
   {
@@ -183,43 +167,6 @@ Status ScanGridBuilder::readPoints(const PointCloudView& view, const Params& par
   return Status::success();
 }
 
-// Organized float32 clouds (ouster), row by row: the row is the ring; a ring field is only checked.
-Status ScanGridBuilder::readOrganizedRows(const PointCloudView& view, const Params& params, ScanGrid& grid)
-{
-  const double rmin = params.min_range, rmax = params.max_range;
-  const auto ringError = [&](std::size_t i, std::int64_t r) { return ringOutOfRange(i, r, params); };
-  for (std::uint32_t row = 0; row < view.height; ++row)
-  {
-    const std::uint8_t* const data = view.data + static_cast<std::size_t>(row) * view.row_step;
-    const std::size_t i0 = static_cast<std::size_t>(row) * view.width;
-    readRecords(data, view.width, view.point_step, static_cast<std::size_t>(view.x.offset),
-                static_cast<std::size_t>(view.y.offset), static_cast<std::size_t>(view.z.offset),
-                static_cast<std::size_t>(view.x.offset), false, static_cast<std::int32_t>(row), rmin, rmax,
-                prange_.data() + i0, px_.data() + i0, py_.data() + i0, pz_.data() + i0, paz_.data() + i0,
-                ring_of_.data() + i0, grid.state.data() + i0, grid.grid_pos.data() + i0);
-    if (!view.ring.present()) continue;
-    const std::uint8_t* rec = data + view.ring.offset;
-    if (view.ring.type == ScalarType::UInt16)  // ouster: read inline, the largest value checked after
-    {
-      std::uint32_t largest = 0;
-      for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
-      {
-        std::uint16_t r16;
-        std::memcpy(&r16, rec, sizeof r16);
-        largest = std::max<std::uint32_t>(largest, r16);
-      }
-      if (largest < static_cast<std::uint32_t>(params.max_rings)) continue;
-      rec = data + view.ring.offset;  // out of range somewhere: find the first, for the message
-    }
-    for (std::uint32_t col = 0; col < view.width; ++col, rec += view.point_step)
-    {
-      const std::int64_t r = readInteger(rec, view.ring.type);
-      if (r < 0 || r >= params.max_rings) return ringError(i0 + col, r);
-    }
-  }
-  return Status::success();
-}
-
 // Points per ring ([0]: invalid ones), for the counting sort, in a pass of its own: the
 // increments would keep the input loops from vectorizing.
 void ScanGridBuilder::countRings(std::size_t n, const Params& params)
@@ -228,38 +175,19 @@ void ScanGridBuilder::countRings(std::size_t n, const Params& params)
   // organized cloud's) would otherwise chain every increment to the store of the one before.
   const std::size_t slots = static_cast<std::size_t>(params.max_rings) + 1;
   ring_count_.assign(4 * slots, 0);
+  std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
+  const std::int32_t* const ring = ring_of_.data();
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4)
   {
-    std::uint32_t* const count = ring_count_.data() + 1;  // ring -1 (invalid) counts at [0]
-    const std::int32_t* const ring = ring_of_.data();
-    const auto four = [count, ring, slots](std::size_t i) {
-      ++count[ring[i]];
-      ++count[slots + static_cast<std::size_t>(ring[i + 1])];
-      ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
-      ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
-    };
-    // Sixteen points of one ring count in one addition, but only where the first points come in
-    // runs: interleaved rings (velodyne firing order) would pay for the comparison in every block.
-    std::size_t changes = 0;
-    const std::size_t probe = std::min<std::size_t>(n, 256);
-    for (std::size_t j = 1; j < probe; ++j) changes += ring[j] != ring[j - 1] ? 1 : 0;
-    std::size_t i = 0;
-    for (; changes < probe / 8 && i + 16 <= n; i += 16)
-    {
-      const std::int32_t r0 = ring[i];
-      int same = 1;
-      for (std::size_t j = 1; j < 16; ++j) same &= ring[i + j] == r0 ? 1 : 0;
-      if (same != 0)
-      {
-        count[r0] += 16;
-        continue;
-      }
-      for (std::size_t j = i; j < i + 16; j += 4) four(j);
-    }
-    for (; i + 4 <= n; i += 4) four(i);
-    for (; i < n; ++i) ++count[ring[i]];
-    for (std::size_t r = 0; r < slots; ++r)
-      ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
-}
+    ++count[ring[i]];
+    ++count[slots + static_cast<std::size_t>(ring[i + 1])];
+    ++count[2 * slots + static_cast<std::size_t>(ring[i + 2])];
+    ++count[3 * slots + static_cast<std::size_t>(ring[i + 3])];
+  }
+  for (; i < n; ++i) ++count[ring[i]];
+  for (std::size_t r = 0; r < slots; ++r)
+    ring_count_[r] += ring_count_[slots + r] + ring_count_[2 * slots + r] + ring_count_[3 * slots + r];
 }
 
 void ScanGridBuilder::assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid)

@@ -89,6 +89,15 @@ __attribute__((target("avx2"))) inline __m256i load32Avx2(const std::uint8_t* p,
   return _mm256_inserti128_si256(_mm256_castsi128_si256(four(0)), four(4), 1);
 }
 
+// For a 4-bit mask, the 32-bit lanes that move its marked 64-bit elements to the front: 2 l and
+// 2 l + 1 for each element l that kCompress lists (left-packing doubles).
+__attribute__((target("avx2"))) inline __m256i pairLanes(unsigned mask4)
+{
+  const __m256i l = _mm256_cvtepi32_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(kCompress.lane[mask4])));
+  const __m256i twice = _mm256_add_epi64(l, l);
+  return _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+}
+
 // Eight columns, input indices [i, i + 8), onto the grid at w: the valid lanes moved to the front
 // by the compress tables and stored whole (the arrays have room for 8 past the end), the grid
 // positions in input order, and z / range of the valid lanes added to `s` in column order (+0
@@ -111,8 +120,7 @@ __attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEight
   _mm256_storeu_pd(out.z + w, _mm256_cvtps_pd(_mm256_castps256_ps128(zp)));
   _mm256_storeu_pd(out.z + w + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(zp, 1)));
   const unsigned lo = mask & 15u;
-  const __m256i p0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPairs.lane[lo]));
-  const __m256i p1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPairs.lane[mask >> 4]));
+  const __m256i p0 = pairLanes(lo), p1 = pairLanes(mask >> 4);
   _mm256_storeu_ps(reinterpret_cast<float*>(out.range + w), _mm256_permutevar8x32_ps(_mm256_castpd_ps(r0), p0));
   _mm256_storeu_ps(reinterpret_cast<float*>(out.range + w + static_cast<unsigned>(__builtin_popcount(lo))),
                    _mm256_permutevar8x32_ps(_mm256_castpd_ps(r1), p1));
@@ -138,22 +146,6 @@ __attribute__((target("avx2,popcnt"), always_inline)) inline unsigned placeEight
   return static_cast<unsigned>(__builtin_popcount(mask));
 }
 
-// The placement's store streams, on lines last written a frame ago: each one's lines for the 16
-// points kWriteAhead places ahead, asked for once every 16 columns (always_inline: GCC deletes
-// calls to a function of prefetches alone).
-__attribute__((always_inline)) inline void prefetchPlacement(const OrganizedGrid& out, std::size_t i, std::size_t w)
-{
-  constexpr std::size_t A = kWriteAhead;
-  prefetchForWrite(out.index, (w + A) * sizeof(std::uint32_t));
-  prefetchForWrite(out.az, (w + A) * sizeof(float));
-  for (const double* d : {out.x, out.y, out.z, out.range})
-  {
-    prefetchForWrite(d, (w + A) * sizeof(double));
-    prefetchForWrite(d, (w + A + 8) * sizeof(double));
-  }
-  prefetchForWrite(out.grid_pos, (i + A) * sizeof(std::int32_t));
-  prefetchForWrite(out.state, i + A);
-}
 }  // namespace
 
 __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::uint8_t* row, const RecordLayout& L,
@@ -170,7 +162,6 @@ __attribute__((target("avx2,popcnt"))) std::size_t readPlaceRowAvx2(const std::u
   {
     const std::size_t i = i0 + c;
     prefetchRecords(row, c + kRecordsAhead, 8, L.step, L.ox);
-    if ((c & 15) == 0) prefetchPlacement(out, i, w);
     __m256 x, y, z;
     loadXyzAvx2(row + c * L.step + L.ox, L.step, x, y, z);
     const __m256d r0 = range4Avx2(_mm256_castps256_ps128(x), _mm256_castps256_ps128(y), _mm256_castps256_ps128(z));

@@ -2,9 +2,9 @@
 // found in one pass over the spacings with a bracket from a sample.
 #include "ring_curvature/scan_grid.hpp"
 #include "grid/scan_grid_builder.hpp"
-#include "common/float_bits.hpp"
 
 #include "common/angles.hpp"
+#include "common/float_bits.hpp"
 #include "common/grow.hpp"
 #include "common/simd_clones.hpp"
 
@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace ring_curvature
 {
@@ -41,12 +40,7 @@ inline bool kept(float d) { return (d > 1e-5f) & (d < 5.0f * kDeg); }
 // The same test on the bits read as a signed integer, for every float: non-negative floats
 // order like their bits, and negative ones (-0 and -NaN included) read as negative integers,
 // +inf and +NaN as integers above those of 5 deg. kept(d) iff keptAbove() < bitsOf(d) < keptUnder().
-inline std::int32_t bitsOf(float v)
-{
-  std::int32_t i;
-  std::memcpy(&i, &v, sizeof i);
-  return i;
-}
+inline std::int32_t bitsOf(float v) { return static_cast<std::int32_t>(detail::floatBits(v)); }
 inline std::int32_t keptAbove() { return bitsOf(1e-5f); }
 inline std::int32_t keptUnder() { return bitsOf(5.0f * kDeg); }
 
@@ -57,8 +51,8 @@ struct BracketCounts
 };
 
 // The bracket pass over d[0, total) for a bracket [lo, hi] of kept bits (so whatever is inside
-// is kept): the counts, and the bits of those inside appended to in (writing one slot past them).
-RC_SIMD_CLONES BracketCounts bracketPass(const float* d, std::size_t total, std::int32_t lo, std::int32_t hi, std::uint32_t* in)
+// is kept): the counts, and those inside appended to in (writing one slot past them).
+RC_SIMD_CLONES BracketCounts bracketPass(const float* d, std::size_t total, std::int32_t lo, std::int32_t hi, float* in)
 {
   const std::int32_t above = keptAbove(), under = keptUnder();
   std::size_t n = 0, below = 0, m = 0;
@@ -67,79 +61,10 @@ RC_SIMD_CLONES BracketCounts bracketPass(const float* d, std::size_t total, std:
     const std::int32_t u = bitsOf(d[i]);
     n += (u > above) & (u < under);
     below += (u > above) & (u < lo);
-    in[m] = static_cast<std::uint32_t>(u);  // overwritten by the next one unless this one is inside
+    in[m] = d[i];  // overwritten by the next one unless this one is inside
     m += (u >= lo) & (u <= hi);
   }
   return {n, below, m};
-}
-
-// The keys of ranks k1 <= k2 among keys[0, m) in a known [base, base + span]: histograms of the
-// leading bits of key - base, narrowing to the rank's bucket; where the ranks part, the second one's
-// bucket goes on alone in `spare` (room for m). keys is overwritten.
-void rankKeys(std::uint32_t* keys, std::uint32_t* spare, std::size_t m, std::size_t k1, std::size_t k2,
-              std::uint32_t base, std::uint32_t span, std::uint32_t& r1, std::uint32_t& r2)
-{
-  constexpr int kMaxDigit = 12;
-  std::uint32_t counts[1u << kMaxDigit];
-  bool both = true;  // r2 still to find
-  for (;;)
-  {
-    if (span == 0) break;  // every key left is base
-    // Up to about log2(m) bits a digit: clearing and walking a bucket costs about what counting
-    // a key does.
-    int cap = 6;
-    while (cap < kMaxDigit && (std::size_t{1} << cap) < m) ++cap;
-    const int bits = 32 - __builtin_clz(span);
-    const int shift = std::max(0, bits - cap);
-    const std::uint32_t buckets = (span >> shift) + 1;
-    std::fill(counts, counts + buckets, 0u);
-    for (std::size_t i = 0; i < m; ++i) ++counts[(keys[i] - base) >> shift];
-    std::uint32_t b = 0;  // the bucket that holds rank k1, and the count below it
-    std::size_t below = 0;
-    while (below + counts[b] <= k1) below += counts[b++];
-    const auto keep = [&](std::uint32_t* out, std::uint32_t bucket) {  // the bucket's keys to out
-      std::size_t j = 0;
-      for (std::size_t i = 0; i < m; ++i)
-      {
-        const std::uint32_t key = keys[i];
-        out[j] = key;  // overwritten by the next one unless this one is in the bucket
-        j += ((key - base) >> shift) == bucket ? 1 : 0;
-      }
-    };
-    const auto rangeOf = [&](std::uint32_t bucket) { return std::min(span - (bucket << shift), (1u << shift) - 1u); };
-    if (both)
-    {
-      std::uint32_t b2 = b;
-      std::size_t below2 = below;
-      while (below2 + counts[b2] <= k2) below2 += counts[b2++];
-      if (b2 != b)
-      {
-        // The ranks part here: the second one goes on alone among its bucket's keys.
-        both = false;
-        if (shift == 0)
-          r2 = base + b2;
-        else
-        {
-          keep(spare, b2);
-          std::uint32_t same;
-          rankKeys(spare, nullptr, counts[b2], k2 - below2, k2 - below2, base + (b2 << shift), rangeOf(b2), r2, same);
-        }
-      }
-    }
-    if (shift == 0)
-    {
-      base += b;
-      break;
-    }
-    keep(keys, b);
-    m = counts[b];
-    k1 -= below;
-    k2 -= below;
-    base += b << shift;
-    span = rangeOf(b);
-  }
-  r1 = base;
-  if (both) r2 = base;
 }
 }  // namespace
 
@@ -196,31 +121,22 @@ bool SpacingMedian::fromBracket(const float* d, std::size_t total, float& median
   // those (rank n / 2 exactly, or false if missed). Positive floats' bits order like them.
   constexpr std::size_t kSample = 1024, kSpread = 64;  // ~4 sigma of the sample's median rank
   if (total < 8 * kSample) return false;
-  const std::int32_t above = keptAbove(), under = keptUnder();
-  std::uint32_t sample[kSample], spare[kSample];
+  float sample[kSample];
   std::size_t ns = 0;
   const std::size_t stride = total / kSample;
   for (std::size_t j = 0; j < kSample; ++j)
   {
-    const std::int32_t u = bitsOf(d[j * stride]);
-    sample[ns] = static_cast<std::uint32_t>(u);
-    ns += (u > above) & (u < under);
+    sample[ns] = d[j * stride];
+    ns += kept(sample[ns]) ? 1 : 0;
   }
   if (ns < kSample / 2) return false;
   const std::size_t spread = kSpread * ns / kSample;
-  // (every kept key lies in [above + 1, under - 1])
-  std::uint32_t lo, hi;
-  rankKeys(sample, spare, ns, ns / 2 - spread, ns / 2 + spread, static_cast<std::uint32_t>(above) + 1u,
-           static_cast<std::uint32_t>(under - above - 2), lo, hi);
+  const float lo = selectNth(sample, ns, ns / 2 - spread), hi = selectNth(sample, ns, ns / 2 + spread);
   growTo(inside_, total + 1);  // (bracketPass writes one slot past the inside ones)
-  std::uint32_t* const in = inside_.data();
-  const BracketCounts c =
-      bracketPass(d, total, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), in);
+  const BracketCounts c = bracketPass(d, total, bitsOf(lo), bitsOf(hi), inside_.data());
   const std::size_t rank = c.n / 2;
   if (!(c.below <= rank && rank < c.below + c.m)) return false;
-  std::uint32_t key, same;
-  rankKeys(in, nullptr, c.m, rank - c.below, rank - c.below, lo, hi - lo, key, same);
-  median = detail::bitsFloat(key);
+  median = lo == hi ? lo : selectNth(inside_.data(), c.m, rank - c.below);  // (equal spacings: often)
   return true;
 }
 

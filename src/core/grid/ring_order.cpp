@@ -55,33 +55,31 @@ std::uint32_t ScanGridBuilder::arrivalWraps(const std::uint64_t* src, std::uint3
   growTo(wide_, k);
   const std::uint32_t down = arrivalSteps(src, k, steps_.data(), wide_.data());
   wrap_fwd = wrap_bwd = 0;
-  {
-    float drop = -kPi, rise = kPi;
-    const auto visit = [&](std::uint32_t j) {
-      const float d = steps_[j];
-      if (d < drop)
-      {
-        drop = d;
-        wrap_fwd = j;
-      }
-      if (d > rise)
-      {
-        rise = d;
-        wrap_bwd = j;
-      }
-    };
-    std::uint32_t j = 1;
-    for (; j + 8 <= k; j += 8)
+  float drop = -kPi, rise = kPi;
+  const auto visit = [&](std::uint32_t j) {
+    const float d = steps_[j];
+    if (d < drop)
     {
-      std::uint64_t any;
-      std::memcpy(&any, wide_.data() + j, sizeof any);
-      if (any == 0) continue;
-      for (std::uint32_t t = j; t < j + 8; ++t)
-        if (wide_[t]) visit(t);
+      drop = d;
+      wrap_fwd = j;
     }
-    for (; j < k; ++j)
-      if (wide_[j]) visit(j);
+    if (d > rise)
+    {
+      rise = d;
+      wrap_bwd = j;
+    }
+  };
+  std::uint32_t j = 1;
+  for (; j + 8 <= k; j += 8)
+  {
+    std::uint64_t any;
+    std::memcpy(&any, wide_.data() + j, sizeof any);
+    if (any == 0) continue;
+    for (std::uint32_t t = j; t < j + 8; ++t)
+      if (wide_[t]) visit(t);
   }
+  for (; j < k; ++j)
+    if (wide_[j]) visit(j);
   return down;
 }
 
@@ -91,47 +89,45 @@ bool ScanGridBuilder::sortAsArrived(const std::uint64_t* src, std::uint64_t* dst
   // Drivers deliver a ring in firing order: monotonic in azimuth with one wrap across +-pi and
   // local disorder. Read from the wrap (backwards if mostly decreasing) it is nearly sorted, so
   // insertion sort is about linear; a move budget hands anything else to bucketSort.
+  // (Any choice of seam gives the same final order; it only decides how much is moved.)
+  const std::size_t budget = 8 * static_cast<std::size_t>(k);
+  std::size_t moves = 0;
+  std::uint32_t j = 0;  // keys placed so far
+  auto insert = [&](std::uint64_t v) {
+    std::uint32_t q = j++;
+    while (q > 0 && v < dst[q - 1] && moves < budget)
+    {
+      dst[q] = dst[q - 1];
+      --q;
+      ++moves;
+    }
+    dst[q] = v;
+  };
+  // Rotated to start after the wrap (reversed first if mostly decreasing), read straight from src.
+  const auto forwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[lo], ..., src[hi - 1]
+    for (std::uint32_t i = lo; i < hi && moves < budget; ++i) insert(src[i]);
+  };
+  const auto backwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[hi - 1], ..., src[lo]
+    for (std::uint32_t t = hi; t > lo && moves < budget; --t) insert(src[t - 1]);
+  };
+  if (down > k / 2)
   {
-    // (Any choice of seam gives the same final order; it only decides how much is moved.)
-    const std::size_t budget = 8 * static_cast<std::size_t>(k);
-    std::size_t moves = 0;
-    std::uint32_t j = 0;  // keys placed so far
-    auto insert = [&](std::uint64_t v) {
-      std::uint32_t q = j++;
-      while (q > 0 && v < dst[q - 1] && moves < budget)
-      {
-        dst[q] = dst[q - 1];
-        --q;
-        ++moves;
-      }
-      dst[q] = v;
-    };
-    // Rotated to start after the wrap (reversed first if mostly decreasing), read straight from src.
-    const auto forwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[lo], ..., src[hi - 1]
-      for (std::uint32_t i = lo; i < hi && moves < budget; ++i) insert(src[i]);
-    };
-    const auto backwards = [&](std::uint32_t lo, std::uint32_t hi) {  // src[hi - 1], ..., src[lo]
-      for (std::uint32_t t = hi; t > lo && moves < budget; --t) insert(src[t - 1]);
-    };
-    if (down > k / 2)
-    {
-      const std::uint32_t start = wrap_bwd > 0 ? wrap_bwd - 1 : k - 1;  // reversed, then rotated
-      backwards(0, start + 1);
-      backwards(start + 1, k);
-    }
-    else
-    {
-      forwards(wrap_fwd, k);
-      forwards(0, wrap_fwd);
-    }
-    return moves < budget;
+    const std::uint32_t start = wrap_bwd > 0 ? wrap_bwd - 1 : k - 1;  // reversed, then rotated
+    backwards(0, start + 1);
+    backwards(start + 1, k);
   }
+  else
+  {
+    forwards(wrap_fwd, k);
+    forwards(0, wrap_fwd);
+  }
+  return moves < budget;
 }
 
 void ScanGridBuilder::bucketSort(const std::uint64_t* src, std::uint64_t* dst, std::uint32_t k)
 {
-  // Bucket sort by azimuth with about one bucket per point, then the order inside each bucket
-  // (insertion sort for small buckets, std::sort for crowded ones: no quadratic case).
+  // Bucket sort by azimuth with about one bucket per point, then std::sort inside each bucket
+  // (an insertion sort for the few keys of most, no quadratic case for a crowded one).
   std::uint32_t nb = 16;
   while (nb < k) nb <<= 1;
   const float scale = static_cast<float>(nb) / kTwoPi;
@@ -143,29 +139,7 @@ void ScanGridBuilder::bucketSort(const std::uint64_t* src, std::uint64_t* dst, s
   for (std::uint32_t j = 0; j < nb; ++j) counts_[j + 1] += counts_[j];
   bin_start_.assign(counts_.begin(), counts_.end() - 1);
   for (std::uint32_t j = 0; j < k; ++j) dst[bin_start_[binOf(src[j])]++] = src[j];
-  for (std::uint32_t j = 0; j < nb; ++j)
-  {
-    const std::uint32_t lo = counts_[j], hi = counts_[j + 1];
-    if (hi - lo < 2) continue;
-    if (hi - lo <= 16)
-    {
-      for (std::uint32_t p = lo + 1; p < hi; ++p)
-      {
-        const std::uint64_t v = dst[p];
-        std::uint32_t q = p;
-        while (q > lo && v < dst[q - 1])
-        {
-          dst[q] = dst[q - 1];
-          --q;
-        }
-        dst[q] = v;
-      }
-    }
-    else
-    {
-      std::sort(dst + lo, dst + hi);
-    }
-  }
+  for (std::uint32_t j = 0; j < nb; ++j) std::sort(dst + counts_[j], dst + counts_[j + 1]);
 }
 
 }  // namespace ring_curvature

@@ -6,7 +6,6 @@
 #include "common/angles.hpp"
 #include "grid/cloud_view_checks.hpp"
 #include "grid/record_read.hpp"
-#include "ring_curvature/prefetch.hpp"
 #include "common/simd_clones.hpp"
 
 #include <algorithm>
@@ -19,8 +18,7 @@ namespace ring_curvature
 namespace
 {
 
-// Grid coordinates from the input pass's float32 copies (float32 widens to double exactly); the
-// four store streams' lines are cold, so each is prefetched kWriteAhead ahead, once a line.
+// Grid coordinates from the input pass's float32 copies (float32 widens to double exactly).
 RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict index, const float* __restrict px,
                               const float* __restrict py, const float* __restrict pz, const double* __restrict prange,
                               double* __restrict gx, double* __restrict gy, double* __restrict gz,
@@ -28,14 +26,6 @@ RC_SIMD_CLONES void gatherXyz(std::size_t m, const std::uint32_t* __restrict ind
 {
   for (std::size_t p = 0; p < m; ++p)
   {
-    if ((p & 7) == 0)
-    {
-      const std::size_t ahead = (p + detail::kWriteAhead) * sizeof(double);
-      detail::prefetchForWrite(gx, ahead);
-      detail::prefetchForWrite(gy, ahead);
-      detail::prefetchForWrite(gz, ahead);
-      detail::prefetchForWrite(gr, ahead);
-    }
     const std::uint32_t i = index[p];
     gx[p] = px[i];
     gy[p] = py[i];
@@ -94,18 +84,23 @@ int ScanGrid::ringOf(std::uint32_t pos) const
 
 Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, ScanGrid& grid)
 {
-  grid.num_rings = 0;
+  // An empty grid, also what a rejected frame leaves (the input pass sizes the per-point arrays,
+  // and readOrganized the grid's, before it meets a bad ring).
+  const auto clear = [&grid] {
+    grid.num_rings = 0;
+    grid.ring_begin.assign(1, 0);
+    grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = grid.num_folded = 0;
+    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
+    grid.index.clear();
+    grid.state.clear();
+    grid.grid_pos.clear();
+    grid.azimuth.clear();
+    grid.duplicates.clear();
+    grid.linked.clear();
+    grid.up.clear();
+  };
+  clear();
   grid.organized = view.organized();
-  grid.ring_begin.assign(1, 0);
-  grid.index.clear();
-  grid.state.clear();
-  grid.grid_pos.clear();
-  grid.num_input = grid.num_valid = grid.num_duplicates = grid.num_second_returns = grid.num_folded = 0;
-  for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
-  grid.azimuth.clear();
-  grid.duplicates.clear();
-  grid.linked.clear();
-  grid.up.clear();
 
   Status st = checkLayout(view, params);
   if (!st) return st;
@@ -114,12 +109,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
   st = readPoints(view, params, grid);
   if (!st)
   {
-    // (the input pass sized the per-point arrays, and readOrganized the grid's, before it met
-    // the bad ring)
-    grid.state.clear();
-    grid.grid_pos.clear();
-    for (auto* v : {&grid.x, &grid.y, &grid.z, &grid.range}) v->clear();
-    grid.ring_begin.assign(1, 0);
+    clear();
     return st;
   }
   if (params.ring_from_elevation && !view.ring.present() && !view.organized()) assignRingsFromElevation(view, params, grid);
@@ -183,21 +173,10 @@ void ScanGridBuilder::gatherGrid(const PointCloudView& view, ScanGrid& grid)
   }
   else
   {
-    const std::size_t W = view.width;
-    std::size_t row = 0;  // organized: grid order is input order, so the row only ever grows
     for (std::size_t p = 0; p < m; ++p)
     {
       const std::uint32_t i = index[p];
-      const std::uint8_t* rec;
-      if (view.height == 1)
-      {
-        rec = view.data + static_cast<std::size_t>(i) * view.point_step;
-      }
-      else
-      {
-        while (i >= (row + 1) * W) ++row;
-        rec = view.data + row * view.row_step + (i - row * W) * view.point_step;
-      }
+      const std::uint8_t* const rec = view.record(i);
       gx[p] = readCoord(rec, view.x);
       gy[p] = readCoord(rec, view.y);
       gz[p] = readCoord(rec, view.z);

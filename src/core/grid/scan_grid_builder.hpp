@@ -1,5 +1,5 @@
 // The grid stage: builds the ring x azimuth ScanGrid from a PointCloudView in O(n). One file a
-// step: cloud_view_checks, input_pass, organized_placement, ring_sort / ring_order / ring_fold,
+// step: cloud_view_checks, input_pass, organized_placement, ring_sort / ring_order,
 // resolution, scan_grid_builder.cpp (duplicates, gather, links), vertical_neighbours.
 #pragma once
 
@@ -26,29 +26,17 @@ public:
 
 private:
   Status readPoints(const PointCloudView& view, const Params& params, ScanGrid& grid);  // input_pass.cpp
-  Status readOrganizedRows(const PointCloudView& view, const Params& params, ScanGrid& grid);
   void countRings(std::size_t n, const Params& params);
   void assignRingsFromElevation(const PointCloudView& view, const Params& params, ScanGrid& grid);
-  /// The last two points kept of a ring as they came (azimuth key, range bits, input index),
-  /// to fold identical returns (ring_sort.cpp).
-  struct RingFold
-  {
-    std::uint32_t az1 = 0, az2 = 0;
-    // the bits of -1.0 at first: no valid range is negative, so nothing matches before two points
-    std::uint64_t r1 = 0xBFF0000000000000u, r2 = 0xBFF0000000000000u;
-    std::uint32_t i1 = 0, i2 = 0;
-  };
   /// A point identical (azimuth and range) to an earlier one of its ring, kept off the sort.
   struct Follower
   {
     std::uint32_t point, of;
   };
   void sortRings(ScanGrid& grid, bool fold_identical);  // ring_sort.cpp
-  std::size_t foldScattered(ScanGrid& grid, bool fold_identical, std::size_t& num_followers);
-  void placeInOrder(ScanGrid& grid, bool fold_identical, std::size_t& num_followers);
   void sortEachRing(ScanGrid& grid);
-  /// Scatters points [from, to) of rings interleaved point by point into their rings (ring_sort.cpp).
-  void scatterInterleaved(std::size_t from, std::size_t to);
+  /// Scatters the points' sort keys into their rings, in input order (ring_sort.cpp).
+  void scatterKeys(std::size_t n);
   /// Folds one ring's k keys in firing order in place: keeps a key unless its azimuth and range
   /// equal one of the two raw keys before it, listing the others in `followers` (writes one past).
   /// `sentinel` is a key whose range (range[index]) no point has. Returns the number kept.
@@ -87,13 +75,10 @@ private:
   UninitializedVector<std::uint32_t> tmp_index_;  // input index of each (sorted) grid position
   UninitializedVector<float> sorted_az_;          // and its azimuth
   UninitializedVector<std::uint64_t> keys_, keys_tmp_;  // (azimuth, input index) sort keys
-  std::vector<RingFold> ring_fold_;
   std::vector<float> steps_;        // one ring's azimuth steps in firing order (sortRing)
   std::vector<std::uint8_t> wide_;  // and where they go beyond +-pi
   std::vector<Follower> followers_;  // the first num_followers_ are this frame's
   std::size_t num_followers_ = 0;
-  std::vector<std::uint32_t> follower_runs_;  // (begin, end) in followers_ of each ring's (resolveFollowers)
-  std::size_t num_follower_runs_ = 0;
   std::vector<std::uint32_t> ring_kept_;  // points of each ring left to sort
   std::uint32_t unfolded_largest_ = 0;  // the largest ring before folding (measureResolution)
   std::vector<float> tmp_f_;  // elevations; kept azimuth spacings

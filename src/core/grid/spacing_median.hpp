@@ -22,7 +22,7 @@ public:
 
 private:
   bool fromBracket(const float* d, std::size_t total, float& median);
-  std::vector<std::uint32_t> inside_;  // the bits of the kept spacings near the median
+  std::vector<float> inside_;  // the kept spacings near the median
   bool bracketed_ = false;
 };
 

@@ -53,18 +53,14 @@ bool along(const ScanGrid& g, const RingSpan& s, std::uint32_t p, Vec& t)
 {
   const RingLinks links{g, s};
   std::uint32_t lo = p - s.b, hi = p - s.b;
-  for (int i = 0; i < kAlongSamples; ++i)
-  {
-    const std::int64_t a = links.prev(lo);
-    if (a < 0 || a == static_cast<std::int64_t>(s.b + hi)) break;
-    lo = static_cast<std::uint32_t>(a - s.b);
-  }
-  for (int i = 0; i < kAlongSamples; ++i)
-  {
-    const std::int64_t b = links.next(hi);
-    if (b < 0 || b == static_cast<std::int64_t>(s.b + lo)) break;
-    hi = static_cast<std::uint32_t>(b - s.b);
-  }
+  for (const bool back : {true, false})
+    for (int i = 0; i < kAlongSamples; ++i)
+    {
+      std::uint32_t& end = back ? lo : hi;
+      const std::int64_t q = back ? links.prev(end) : links.next(end);
+      if (q < 0 || q == static_cast<std::int64_t>(s.b + (back ? hi : lo))) break;
+      end = static_cast<std::uint32_t>(q - s.b);
+    }
   if (lo == hi) return false;
   t = sub(point(g, s.b + hi), point(g, s.b + lo));
   return t.norm() < 2 * kMaxNeighbourDistance && normalize(t);

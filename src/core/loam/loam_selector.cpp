@@ -114,22 +114,16 @@ void LoamSelector::exclusions(const ScanGrid& grid, const Params& params)
 void LoamSelector::block(const ScanGrid& grid, const RingSpan& s, std::uint32_t k, int suppression)
 {
   const RingLinks links{grid, s};
-  const std::uint32_t b = s.b;
-  std::uint32_t local = k;
-  for (int i = 0; i < suppression; ++i)  // ahead, up to a gap
+  for (const bool ahead : {true, false})  // each way up to a gap
   {
-    const std::int64_t q = links.next(local);
-    if (q < 0) break;
-    blocked_[static_cast<std::size_t>(q)] |= kSuppressed;
-    local = static_cast<std::uint32_t>(q - b);
-  }
-  local = k;
-  for (int i = 0; i < suppression; ++i)  // behind
-  {
-    const std::int64_t q = links.prev(local);
-    if (q < 0) break;
-    blocked_[static_cast<std::size_t>(q)] |= kSuppressed;
-    local = static_cast<std::uint32_t>(q - b);
+    std::uint32_t local = k;
+    for (int i = 0; i < suppression; ++i)
+    {
+      const std::int64_t q = ahead ? links.next(local) : links.prev(local);
+      if (q < 0) break;
+      blocked_[static_cast<std::size_t>(q)] |= kSuppressed;
+      local = static_cast<std::uint32_t>(q - s.b);
+    }
   }
 }
 

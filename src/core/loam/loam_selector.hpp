@@ -42,7 +42,7 @@ private:
                 const Params& params, LoamFeatures& out);
   void sweepTimes(const PointCloudView& view, const ScanGrid& grid, const Params& params, LoamFeatures& out);
 
-  std::vector<std::uint8_t> blocked_, chosen_;
+  std::vector<std::uint8_t> blocked_;
   std::vector<Candidate> sharp_, flat_;
   std::vector<std::uint64_t> voxel_keys_;  // open-addressing set, one ring at a time
   std::vector<std::uint32_t> voxel_used_;

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <limits>
 
 namespace ring_curvature
 {
@@ -11,36 +10,10 @@ namespace detail
 {
 
 // Walks the input in order, so the writes are sequential and each entry is written once; the
-// reads follow the rings (a few cached streams per array).
-void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1)
-{
-  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-  for (std::size_t i = i0; i < i1; ++i)
-  {
-    if (o.state[i] == PointState::OnGrid || o.state[i] == PointState::Duplicate)
-    {
-      const auto p = static_cast<std::size_t>(o.grid_pos[i]);
-      o.out_label[i] = o.label[p];
-      o.out_curvature[i] = o.curvature[p];
-      o.out_smoothness[i] = o.smoothness[p];
-      o.out_discontinuity[i] = o.discontinuity[p];
-      o.out_primitive[i] = o.primitive[p];
-    }
-    else
-    {
-      o.out_label[i] = static_cast<std::uint8_t>(Label::None);
-      o.out_curvature[i] = kNaN;
-      o.out_smoothness[i] = kNaN;
-      o.out_discontinuity[i] = kNaN;
-      o.out_primitive[i] = -1;
-    }
-  }
-}
-
-// Eight points a group: all on the grid reads without a test, all off (organized padding) stores
-// the unlabelled values, and a mixed group (dual returns) reads each point's entries (position 0's
-// if none) and selects, as a branch would mispredict; floats as bits, so the compiler selects too.
-void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
+// reads follow the rings (a few cached streams per array). Each point reads its grid position's
+// entries (position 0's if none) and selects, as a branch on the state would mispredict (dual
+// returns, organized padding); floats as bits, so the compiler selects too.
+void gatherOutput(const OutputArrays& o, std::size_t n)
 {
   const std::uint32_t nan_bits = 0x7fc00000u;  // std::numeric_limits<float>::quiet_NaN()
   const auto* const curvature = reinterpret_cast<const std::uint32_t*>(o.curvature);
@@ -56,53 +29,21 @@ void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1)
   const std::int32_t* const primitive = o.primitive;
   std::uint8_t* const out_label = o.out_label;
   std::int32_t* const out_primitive = o.out_primitive;
-  // OnGrid (1) or Duplicate (2)
-  const auto onGrid = [state](std::size_t i) { return static_cast<std::uint8_t>(state[i] - 1u) < 2u; };
-  std::size_t i = i0;
-  for (; i + 8 <= i1; i += 8)
-  {
-    unsigned count = 0;
-    for (std::size_t j = i; j < i + 8; ++j) count += onGrid(j) ? 1u : 0u;
-    if (count == 8)
-    {
-      for (std::size_t j = i; j < i + 8; ++j)
-      {
-        const auto p = static_cast<std::size_t>(grid_pos[j]);
-        out_label[j] = label[p];
-        out_curvature[j] = curvature[p];
-        out_smoothness[j] = smoothness[p];
-        out_discontinuity[j] = discontinuity[p];
-        out_primitive[j] = primitive[p];
-      }
-      continue;
-    }
-    if (count == 0)
-    {
-      for (std::size_t j = i; j < i + 8; ++j)
-      {
-        out_label[j] = static_cast<std::uint8_t>(Label::None);
-        out_curvature[j] = out_smoothness[j] = out_discontinuity[j] = nan_bits;
-        out_primitive[j] = -1;
-      }
-      continue;
-    }
-    // (not unrolled: unrolled, its pointers outnumber the registers and spill to the stack)
+  // (not unrolled: unrolled, its pointers outnumber the registers and spill to the stack)
 #pragma GCC unroll 1
-    for (std::size_t j = i; j < i + 8; ++j)
-    {
-      const bool on = onGrid(j);
-      const auto p = static_cast<std::size_t>(on ? grid_pos[j] : 0);
-      const std::uint8_t l = label[p];
-      const std::uint32_t c = curvature[p], s = smoothness[p], d = discontinuity[p];
-      const std::int32_t q = primitive[p];
-      out_label[j] = on ? l : static_cast<std::uint8_t>(Label::None);
-      out_curvature[j] = on ? c : nan_bits;
-      out_smoothness[j] = on ? s : nan_bits;
-      out_discontinuity[j] = on ? d : nan_bits;
-      out_primitive[j] = on ? q : -1;
-    }
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    const bool on = static_cast<std::uint8_t>(state[j] - 1u) < 2u;  // OnGrid (1) or Duplicate (2)
+    const auto p = static_cast<std::size_t>(on ? grid_pos[j] : 0);
+    const std::uint8_t l = label[p];
+    const std::uint32_t c = curvature[p], s = smoothness[p], d = discontinuity[p];
+    const std::int32_t q = primitive[p];
+    out_label[j] = on ? l : static_cast<std::uint8_t>(Label::None);
+    out_curvature[j] = on ? c : nan_bits;
+    out_smoothness[j] = on ? s : nan_bits;
+    out_discontinuity[j] = on ? d : nan_bits;
+    out_primitive[j] = on ? q : -1;
   }
-  gatherOutput(o, i, i1);
 }
 
 // Sixteen bytes at a time: a match (-1) is subtracted into byte counters per lane and label, summed

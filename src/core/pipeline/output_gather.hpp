@@ -28,11 +28,9 @@ struct OutputArrays
   std::int32_t* out_primitive;
 };
 
-/// Input points [i0, i1) get their grid position's results (OnGrid, or Duplicate: their
-/// representative's), the others none (Label::None, NaN, -1). grid_size > 0.
-void gatherOutputGroups(const OutputArrays& o, std::size_t i0, std::size_t i1);
-/// The same one point at a time, for any grid size.
-void gatherOutput(const OutputArrays& o, std::size_t i0, std::size_t i1);
+/// Input points [0, n) get their grid position's results (OnGrid, or Duplicate: their
+/// representative's), the others none (Label::None, NaN, -1). The grid is not empty.
+void gatherOutput(const OutputArrays& o, std::size_t n);
 /// Points of each label but None among labels[0, n) (counts[0] is left alone).
 void countLabels(const std::uint8_t* labels, std::size_t n, std::array<std::uint32_t, kNumLabels>& counts);
 

@@ -5,7 +5,9 @@
 #include "pipeline/output_gather.hpp"
 #include "pipeline/stages.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
 namespace ring_curvature
 {
@@ -29,6 +31,22 @@ void clearOutputs(FrameResult& out)
   out.discontinuity.clear();
   out.primitive.clear();
   out.primitives.clear();
+}
+
+// The counts of labels[0, n), and None for the rest of the `total` input points. Counted apart,
+// sixteen labels at a time: a ++count[label] per point is a chain of stores and reloads of the
+// same counter (nine points in ten are planes).
+void countInto(const std::uint8_t* labels, std::size_t n, std::size_t total, FrameResult& out)
+{
+  std::array<std::uint32_t, kNumLabels> counts{};
+  detail::countLabels(labels, n, counts);
+  std::size_t labelled = 0;
+  for (std::size_t l = 1; l < kNumLabels; ++l)
+  {
+    out.label_counts[l] += counts[l];
+    labelled += counts[l];
+  }
+  out.label_counts[static_cast<std::size_t>(Label::None)] += total - labelled;
 }
 }  // namespace
 
@@ -78,14 +96,7 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out, Scope sco
   if (scope == Scope::GridLabels)
   {
     clearOutputs(out);
-    std::size_t labelled = 0;
-    for (const Label l : s.labels)
-      if (l != Label::None)
-      {
-        ++out.label_counts[static_cast<std::size_t>(l)];
-        ++labelled;
-      }
-    out.label_counts[static_cast<std::size_t>(Label::None)] = s.grid.num_input - labelled;
+    countInto(reinterpret_cast<const std::uint8_t*>(s.labels.data()), s.labels.size(), s.grid.num_input, out);
     return Status::success();
   }
   s.primitive_extractor.extract(s.grid, s.labels, params_, out.primitives);
@@ -112,20 +123,17 @@ Status Pipeline::process(const PointCloudView& view, FrameResult& out, Scope sco
                                out.discontinuity.data(),
                                out.primitive.data()};
   if (s.grid.size() > 0)
-    detail::gatherOutputGroups(o, 0, n);
-  else
-    detail::gatherOutput(o, 0, n);
-  // Counted apart, sixteen labels at a time: a ++count[label] per point is a chain of stores and
-  // reloads of the same counter (nine points in ten are planes).
-  std::array<std::uint32_t, kNumLabels> counts{};
-  detail::countLabels(out.label.data(), n, counts);
-  std::size_t labelled = 0;
-  for (std::size_t l = 1; l < kNumLabels; ++l)
   {
-    out.label_counts[l] += counts[l];
-    labelled += counts[l];
+    detail::gatherOutput(o, n);
   }
-  out.label_counts[static_cast<std::size_t>(Label::None)] += n - labelled;
+  else  // no point on the grid
+  {
+    std::fill(out.label.begin(), out.label.end(), static_cast<std::uint8_t>(Label::None));
+    for (auto* v : {&out.curvature, &out.smoothness, &out.discontinuity})
+      std::fill(v->begin(), v->end(), std::numeric_limits<float>::quiet_NaN());
+    std::fill(out.primitive.begin(), out.primitive.end(), -1);
+  }
+  countInto(out.label.data(), n, n, out);
   out.times.output = msSince(t);
   return Status::success();
 }

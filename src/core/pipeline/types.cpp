@@ -82,16 +82,8 @@ double readScalar(const std::uint8_t* p, ScalarType t)
 
 std::int64_t readInteger(const std::uint8_t* p, ScalarType t)
 {
-  switch (t)
-  {
-    case ScalarType::Int8: return load<std::int8_t>(p);
-    case ScalarType::UInt8: return load<std::uint8_t>(p);
-    case ScalarType::Int16: return load<std::int16_t>(p);
-    case ScalarType::UInt16: return load<std::uint16_t>(p);
-    case ScalarType::Int32: return load<std::int32_t>(p);
-    case ScalarType::UInt32: return load<std::uint32_t>(p);
-    default: return -1;  // float types are rejected before reading
-  }
+  // float types are rejected before reading; every integer type's values are exact in a double
+  return isIntegerType(t) ? static_cast<std::int64_t>(readScalar(p, t)) : -1;
 }
 
 }  // namespace ring_curvature

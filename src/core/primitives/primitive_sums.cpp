@@ -11,7 +11,7 @@ namespace ring_curvature
 // (w d) d and (w d) rot(d), rot(d) = (dy, dz, dx); the mean is r + sum(w d) / n, the moments
 // sum(w d d^T) - sum(w d) sum(w d)^T / n (only the six distinct ones), n counting duplicates.
 // - A grid point with c duplicates stands for w = 1 + c points: w = 2 is an exact product, the
-//   point's terms twice (w > 2 rounds once). The weighted loop has no branch on c (1 d is d).
+//   point's terms twice (w > 2 rounds once). One weighted loop serves all: 1 d is d exactly.
 // - Precision: double sums about a point of the primitive, so |d| is at most its extent and the
 //   cancellation is a two-pass sum's (about the origin, n 6400 m^2 against cm^2 would cancel all).
 // - The box in double, converted once: rounding to float is monotonic, so it equals min / max of
@@ -61,12 +61,6 @@ RC_SIMD_CLONES void primitiveSums(const std::uint32_t* __restrict sp, std::uint3
     lo = p < lo ? p : lo;  // std::min(lo, p), lane by lane
     hi = hi < p ? p : hi;  // std::max(hi, p)
   };
-  const auto add = [&r, &s, &dd, &dr](const D4& p) {
-    const D4 d = p - r;  // (dx, dy, dz, dz)
-    s += d;
-    dd += d * d;
-    dr += d * __builtin_shufflevector(d, d, 1, 2, 0, 0);
-  };
   const auto addWeighted = [&r, &s, &dd, &dr](const D4& p, std::uint32_t c) {
     const double w = 1.0 + static_cast<double>(c);  // exact: c < 2^32
     const D4 d = p - r, wd = D4{w, w, w, w} * d;
@@ -74,20 +68,12 @@ RC_SIMD_CLONES void primitiveSums(const std::uint32_t* __restrict sp, std::uint3
     dd += wd * d;
     dr += wd * __builtin_shufflevector(d, d, 1, 2, 0, 0);
   };
-  if (np == ng)
-    for (std::uint32_t k = 1; k < ng; ++k)
-    {
-      const D4 p = RC_XYZZ(sp[k]);
-      box(p);
-      add(p);
-    }
-  else
-    for (std::uint32_t k = 1; k < ng; ++k)
-    {
-      const D4 p = RC_XYZZ(sp[k]);
-      box(p);
-      addWeighted(p, dup_count[sp[k]]);
-    }
+  for (std::uint32_t k = 1; k < ng; ++k)
+  {
+    const D4 p = RC_XYZZ(sp[k]);
+    box(p);
+    addWeighted(p, np == ng ? 0u : dup_count[sp[k]]);
+  }
 #undef RC_XYZZ
   OnePass a;
   std::memcpy(a.r, &r, sizeof r);

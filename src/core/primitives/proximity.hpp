@@ -10,16 +10,10 @@
 namespace ring_curvature
 {
 
-/// Eq 20 with half_ratio = range_ratio * 0.5: |ra - rb| <= max(half_ratio (ra + rb), range_min).
-inline bool inRangeHalf(double ra, double rb, double half_ratio, double range_min)
-{
-  return !(std::fabs(ra - rb) > std::max(half_ratio * (ra + rb), range_min));
-}
-
-/// Eq 20 from the ratio itself (range_ratio * 0.5 * (ra + rb) is that product, left to right).
+/// Eq 20: |ra - rb| <= max(range_ratio * 0.5 * (ra + rb), range_min).
 inline bool inRange(double ra, double rb, double range_ratio, double range_min)
 {
-  return inRangeHalf(ra, rb, range_ratio * 0.5, range_min);
+  return !(std::fabs(ra - rb) > std::max(range_ratio * 0.5 * (ra + rb), range_min));
 }
 
 /// Eq 19's azimuth difference of two samples.
