@@ -5,8 +5,10 @@
 // nothing (or the wrong thing) fails.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <random>
 #include <vector>
 
@@ -244,6 +246,33 @@ TEST(InterRing, TheRoughWindowSpansTheRingsAsConfigured)
   std::printf("strip points Rough: %.3f with a 3-ring window, %.3f with a 5-ring one\n", three, five);
   EXPECT_GT(three, 0.5);
   EXPECT_LT(five, 0.1);
+}
+
+TEST(InterRing, APoleIsOnePrimitiveAlongItsAxis)
+{
+  // the thin-object step's Edges over the pole's rings join into one edge chain whose axis is the
+  // pole's (vertical), as a SLAM front end or rviz user expects of a pole
+  const Scene s = makeScene();
+  Params on = allOff();
+  on.thin_objects = true;
+  const FrameResult r = run(s, on);
+  std::map<std::int32_t, int> count;
+  int edges = 0;
+  for (std::size_t i = 0; i < s.part.size(); ++i)
+    if (s.part[i] == kPole && r.label[i] == static_cast<std::uint8_t>(Label::Edge))
+    {
+      ++edges;
+      ++count[r.primitive[i]];
+    }
+  ASSERT_GT(edges, 20);
+  const auto best = std::max_element(count.begin(), count.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  ASSERT_GE(best->first, 0);
+  EXPECT_GE(best->second, 0.9 * edges);
+  const PrimitiveInfo& prim = r.primitives.primitives[static_cast<std::size_t>(best->first)];
+  EXPECT_EQ(prim.label, Label::Edge);
+  EXPECT_GT(std::fabs(prim.axis.z()), 0.95f);
+  EXPECT_GE(prim.ring_max - prim.ring_min, 10);
 }
 
 TEST(InterRing, QuartileModeIsThePapersWhateverTheSwitches)
