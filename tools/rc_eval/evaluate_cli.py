@@ -72,16 +72,15 @@ def evaluate_bag(bag, topic, work, max_pairs, prog):
 
 def benchmark(bag, topic):
     """Median ms/frame of ours and of the PCL baselines, from the package's benchmark tool."""
-    cmd = tool_command("benchmark") + ["--bag", bag, "--repeat", "5", "--baselines", "--baseline-repeat", "1",
-                                      "--topic", topic]
-    res = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    args = ["--bag", bag, "--repeat", "5", "--baselines", "--baseline-repeat", "1", "--topic", topic]
+    res = subprocess.run(tool_command("benchmark") + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if res.returncode != 0 or not res.stdout.strip():
         return None
     last = res.stdout.strip().splitlines()[-1]
     kv = dict(re.findall(r"(\w+)=([0-9.eE+-]+)", last))
     return {"pipeline_ms": float(kv.get("pipeline_ms", "nan")), "pca_curv_ms": float(kv.get("pca_curv_ms", "nan")),
             "euclid_ms": float(kv.get("euclid_ms", "nan")), "points": float(kv.get("points", "nan")),
-            "command": " ".join(cmd)}
+            "command": " ".join(["rosrun", "ring_curvature", "benchmark"] + args)}  # (not this machine's path)
 
 
 def main(argv):
