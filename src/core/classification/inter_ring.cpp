@@ -99,8 +99,9 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
     // a crease crosses rings, range noise does not line up from one ring to the next; asked only
     // of a noisy frame (a fold along the ring, e.g. a wall's foot, has no Edge on the rings beside
     // it, and a quiet sensor's ring-wise Edges are reliable)
-    if (edge_support && l0 == Label::Edge && !flaggedNear(ring_feature_, up_[p], rho[p], rho, P) &&
-        !flaggedNear(ring_feature_, down_[p], rho[p], rho, P))
+    const auto ring_feature = [this](std::int32_t c) { return ring_feature_[static_cast<std::size_t>(c)] != 0; };
+    if (edge_support && l0 == Label::Edge && !near(up_[p], rho[p], rho, P, ring_feature) &&
+        !near(down_[p], rho[p], rho, P, ring_feature))
       l = Label::Plane;
     if (P.inter_ring_roughness)
     {
@@ -110,7 +111,10 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
     // (a trunk's outline in front of foliage is a vertical line over rings, a leaf's is not)
     if (P.suppress_foliage_features && (l0 == Label::Edge || l0 == Label::Corner) &&
         share >= P.foliage_feature_fraction)
-      l = keep_silhouettes && silhouette(p, rho, P) && stackedSilhouette(p, rho, P) ? l0 : Label::Rough;
+    {
+      const auto outline = [&](std::int32_t c) { return silhouette(c, rho, P); };
+      l = keep_silhouettes && outline(static_cast<std::int32_t>(p)) && stacked(p, rho, P, outline) ? l0 : Label::Rough;
+    }
     if (P.occlusion_aware_jumps && l == Label::Corner)
     {
       // the far side of a jump: a ring neighbour is nearer by a jump (the occluder), whose side
@@ -134,19 +138,9 @@ void InterRingRefiner::refine(const ScanGrid& g, const Features& f, const Params
   {
     // (a Corner stays: the near side of the jump that bounds the run)
     if (labels[p] == Label::None || thin_[p] == 0 || labels[p] == Label::Corner) continue;
-    if (stacked(thin_, p, rho, P)) labels[p] = Label::Edge;
+    if (stacked(p, rho, P, [this](std::int32_t c) { return thin_[static_cast<std::size_t>(c)] != 0; }))
+      labels[p] = Label::Edge;
   }
-}
-
-bool InterRingRefiner::stacked(const std::vector<std::uint8_t>& flag, std::uint32_t p, const double* rho,
-                               const Params& P) const
-{
-  const std::int32_t u = up_[p], d = down_[p];
-  int count = 0;
-  for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
-                               d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
-    count += flaggedNear(flag, q, rho[p], rho, P) ? 1 : 0;
-  return count >= P.thin_min_stack;
 }
 
 bool InterRingRefiner::silhouette(std::int32_t p, const double* rho, const Params& P) const
@@ -157,23 +151,6 @@ bool InterRingRefiner::silhouette(std::int32_t p, const double* rho, const Param
   return false;
 }
 
-bool InterRingRefiner::stackedSilhouette(std::uint32_t p, const double* rho, const Params& P) const
-{
-  // as stacked(), with the outline test made where it is asked (few samples are)
-  const double tol = std::max(static_cast<double>(P.thin_max_range_step), P.thin_range_step_ratio * rho[p]);
-  const std::int32_t u = up_[p], d = down_[p];
-  int count = 0;
-  for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
-                               d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
-  {
-    if (q < 0) continue;
-    bool hit = false;
-    for (const std::int32_t c : {q, prev_[static_cast<std::size_t>(q)], next_[static_cast<std::size_t>(q)]})
-      hit = hit || (c >= 0 && std::fabs(rho[c] - rho[p]) < tol && silhouette(c, rho, P));
-    count += hit ? 1 : 0;
-  }
-  return count >= P.thin_min_stack;
-}
 
 void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
 {
@@ -311,16 +288,6 @@ float InterRingRefiner::roughShare(std::uint32_t p, int rings) const
   return total > 0 ? static_cast<float>(rough) / static_cast<float>(total) : 0.0f;
 }
 
-bool InterRingRefiner::flaggedNear(const std::vector<std::uint8_t>& flag, std::int32_t q, double r,
-                                   const double* rho, const Params& P) const
-{
-  if (q < 0) return false;
-  for (const std::int32_t c : {q, prev_[static_cast<std::size_t>(q)], next_[static_cast<std::size_t>(q)]})
-    if (c >= 0 && flag[static_cast<std::size_t>(c)] != 0 &&
-        std::fabs(rho[c] - r) < std::max(static_cast<double>(P.thin_max_range_step), P.thin_range_step_ratio * r))
-      return true;
-  return false;
-}
 
 float InterRingRefiner::lowerQuartile(const std::vector<float>& values)
 {

@@ -1,6 +1,6 @@
 // Inter-ring evidence on the ring-wise labels (the paper's section 6.2, "early, selective
 // inter-ring fusion"): a ring alone cannot tell a hedge from a wall or a pole from a wall's edge,
-// the rings above and below can. Four steps, each with its switch in Params:
+// the rings above and below can. Five steps, each with its switch in Params:
 // - roughness over a window of 3 or 5 rings x up to 9 samples: foliage is rough along and across
 //   rings, a plane or a horizontal crease is not (its cross-ring residual is the same all along
 //   the ring);
@@ -17,6 +17,8 @@
 #include "ring_curvature/params.hpp"
 #include "ring_curvature/scan_grid.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -58,15 +60,29 @@ private:
   void thinRuns(const ScanGrid& grid, const Params& params);
   /// Whether q or a ring neighbour of it is flagged at about range r (a 1-sample pole is not
   /// always the nearest sample in azimuth on the next ring).
-  bool flaggedNear(const std::vector<std::uint8_t>& flag, std::int32_t q, double r, const double* rho,
-                   const Params& params) const;
-  /// Whether p is stacked: flagged samples at about its range in thin_min_stack of the 4 places
-  /// 1 and 2 rings above and below.
-  bool stacked(const std::vector<std::uint8_t>& flag, std::uint32_t p, const double* rho, const Params& params) const;
+  template <class Flagged>
+  bool near(std::int32_t q, double r, const double* rho, const Params& params, const Flagged& flagged) const
+  {
+    if (q < 0) return false;
+    const double tol = std::max(static_cast<double>(params.thin_max_range_step), params.thin_range_step_ratio * r);
+    for (const std::int32_t c : {q, prev_[static_cast<std::size_t>(q)], next_[static_cast<std::size_t>(q)]})
+      if (c >= 0 && std::fabs(rho[c] - r) < tol && flagged(c)) return true;
+    return false;
+  }
+  /// Whether p is stacked: flagged samples near its range in thin_min_stack of the 4 places 1 and
+  /// 2 rings above and below.
+  template <class Flagged>
+  bool stacked(std::uint32_t p, const double* rho, const Params& params, const Flagged& flagged) const
+  {
+    const std::int32_t u = up_[p], d = down_[p];
+    int count = 0;
+    for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
+                                 d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
+      count += near(q, rho[p], rho, params, flagged) ? 1 : 0;
+    return count >= params.thin_min_stack;
+  }
   /// Whether p is the near side of a depth jump or of a gap along its ring.
   bool silhouette(std::int32_t p, const double* rho, const Params& params) const;
-  /// Whether p's outline is stacked over rings as stacked() asks of thin runs.
-  bool stackedSilhouette(std::uint32_t p, const double* rho, const Params& params) const;
 
   std::vector<std::int32_t> up_, down_;  // -1: none
   std::vector<std::int32_t> prev_, next_;  // linked neighbours along the ring, -1: none
