@@ -126,15 +126,23 @@ Params allOff()
       p.thin_objects = false;
   return p;
 }
+
+// Only the rough window, with bounds well above the walls' scatter (none) and below the hedge's
+// (0.3 m).
+Params roughWindowOn()
+{
+  Params p = allOff();
+  p.inter_ring_roughness = true;
+  p.rough_smoothness_min = 1e-3f;
+  p.rough_vertical_min = 0.05f;
+  return p;
+}
 }  // namespace
 
 TEST(InterRing, RoughnessAcrossRingsMakesTheHedgeRoughAndLeavesTheWalls)
 {
   const Scene s = makeScene();
-  Params on = allOff();
-  on.inter_ring_roughness = true;
-  on.rough_smoothness_min = 1e-3f;  // (the hedge's scatter is 0.3 m, the walls' none)
-  on.rough_vertical_min = 0.05f;
+  Params on = roughWindowOn();
   const FrameResult r = run(s, on);
   EXPECT_GT(share(s, r, kHedge, Label::Rough), 0.8);
   EXPECT_GT(share(s, r, kWall, Label::Plane), 0.95);
@@ -216,10 +224,8 @@ TEST(InterRing, AnOutlineStackedOverRingsSurvivesFoliageSuppression)
   // the pole in front of the hedge: its outlines are Corners in a rough window; suppression
   // makes them Rough unless they are a silhouette stacked over rings (thin objects off here)
   const Scene s = makeScene();
-  Params on = allOff();
-  on.inter_ring_roughness = on.suppress_foliage_features = true;
-  on.rough_smoothness_min = 1e-3f;  // (as in the roughness test)
-  on.rough_vertical_min = 0.05f;
+  Params on = roughWindowOn();
+  on.suppress_foliage_features = true;
   on.foliage_keep_silhouettes = false;
   const double dropped = share(s, run(s, on), kHedgePole, Label::Corner, Label::Edge);
   on.foliage_keep_silhouettes = true;
@@ -235,10 +241,7 @@ TEST(InterRing, TheRoughWindowSpansTheRingsAsConfigured)
 {
   // a rough strip two rings tall: 2 of a 3-ring window's rings are rough, 2 of a 5-ring one's
   const Scene s = makeScene();
-  Params on = allOff();
-  on.inter_ring_roughness = true;
-  on.rough_smoothness_min = 1e-3f;
-  on.rough_vertical_min = 0.05f;
+  Params on = roughWindowOn();
   on.rough_window_rings = 1;
   const double three = share(s, run(s, on), kStrip, Label::Rough);
   on.rough_window_rings = 2;
