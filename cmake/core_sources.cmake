@@ -26,6 +26,7 @@ set(RC_CORE_SOURCES
   src/core/primitives/primitive_extractor.cpp
   src/core/loam/loam_selector.cpp
   src/core/loam/degeneracy.cpp
+  src/core/loam/sweep_deskew.cpp
   src/core/pipeline/types.cpp
   src/core/pipeline/params.cpp
   src/core/pipeline/output_gather.cpp

@@ -18,6 +18,13 @@ if(CATKIN_ENABLE_TESTING)
     target_compile_options(test_ros_driver_layouts PRIVATE ${RC_WARNINGS})
   endif()
 
+  # Deskewing the LOAM clouds: the odometry's motion model and FrameProcessor's points.
+  catkin_add_gtest(test_ros_deskew test/ros/test_deskew.cpp)
+  if(TARGET test_ros_deskew)
+    target_link_libraries(test_ros_deskew ring_curvature_ros gtest_main)
+    target_compile_options(test_ros_deskew PRIVATE ${RC_WARNINGS})
+  endif()
+
   # (The PCL point type's test, test_ros_point_types, is in cmake/lab.cmake: it needs PCL.)
 
   add_rostest_gtest(test_ros_nodelet_inprocess test/ros/nodelet_inprocess.test test/ros/test_nodelet_inprocess.cpp)

@@ -32,6 +32,9 @@ struct LoamFeatures
   /// time field when it varies over the frame, else from the azimuth turned since the first point.
   std::vector<float> sweep_time;
   bool time_from_field = false;
+  /// With time_from_field: the first point's time as the field gives it, in seconds (relative to
+  /// the header stamp for most drivers, absolute for Hesai and RoboSense).
+  double first_time = 0.0;
   DegeneracyReport degeneracy;
 };
 

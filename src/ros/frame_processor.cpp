@@ -1,6 +1,8 @@
 #include "ring_curvature/ros/frame_processor.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <vector>
 
 #include "ring_curvature/pipeline.hpp"
@@ -11,6 +13,21 @@
 
 namespace ring_curvature
 {
+
+namespace
+{
+/// Seconds from the sweep's first point to the header stamp, in [0, period]: the time the deskewed
+/// points refer to, so that a pose a back end stamps with it is the sensor's at that time. Relative
+/// time fields count from the stamp (Velodyne's run up to it, Ouster's from it), absolute ones
+/// (Hesai, RoboSense) are compared with it; without a time field the sweep starts at the stamp.
+double stampInSweep(const ros::Time& stamp, const LoamFeatures& loam, double period)
+{
+  if (!loam.time_from_field) return 0.0;
+  const bool absolute = std::fabs(loam.first_time) > 1e6;  // (an epoch in seconds, not an offset)
+  const double t = absolute ? stamp.toSec() - loam.first_time : -loam.first_time;
+  return std::min(std::max(t, 0.0), period);
+}
+}  // namespace
 
 struct FrameProcessor::Impl
 {
@@ -26,6 +43,9 @@ struct FrameProcessor::Impl
   MarkerScratch marker_scratch;  // (grown to the largest primitive once, not allocated per frame)
   LoamFeatures loam;
   sensor_msgs::PointCloud2Ptr loam_cloud, sharp, less_sharp, flat, less_flat;
+  bool deskew = false;
+  SweepMotion motion;
+  SweepDeskew deskewer;
 };
 
 FrameProcessor::FrameProcessor(const Params& params) : impl_(std::make_unique<Impl>(params)) {}
@@ -34,6 +54,12 @@ FrameProcessor::~FrameProcessor() = default;
 Status FrameProcessor::setParams(const Params& params) { return impl_->pipeline.setParams(params); }
 const Params& FrameProcessor::params() const { return impl_->pipeline.params(); }
 const FrameResult& FrameProcessor::result() const { return impl_->result; }
+
+void FrameProcessor::setSweepMotion(const SweepMotion* motion)
+{
+  impl_->deskew = motion != nullptr;
+  if (motion) impl_->motion = *motion;
+}
 
 Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out, const OutputSelection& select)
 {
@@ -75,20 +101,27 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
   FrameSummary& f = summary_;
   f.loam = select.anyLoam();
   f.loam_ms = 0;
+  f.deskewed = false;
   if (f.loam)
   {
     const auto tl = std::chrono::steady_clock::now();
     m.pipeline.selectLoamFeatures(view, m.loam);
     f.loam_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tl).count();
     const ScanGrid& g = m.pipeline.grid();
-    const LoamPointFormat fmt = m.pipeline.params().loam_point_format;
-    if (select.loam_cloud) out.loam_cloud = m.loam_cloud = makeLoamCloud(msg, g, m.loam, nullptr, fmt, std::move(m.loam_cloud));
-    if (select.sharp) out.sharp = m.sharp = makeLoamCloud(msg, g, m.loam, &m.loam.sharp, fmt, std::move(m.sharp));
-    if (select.less_sharp)
-      out.less_sharp = m.less_sharp = makeLoamCloud(msg, g, m.loam, &m.loam.less_sharp, fmt, std::move(m.less_sharp));
-    if (select.flat) out.flat = m.flat = makeLoamCloud(msg, g, m.loam, &m.loam.flat, fmt, std::move(m.flat));
-    if (select.less_flat)
-      out.less_flat = m.less_flat = makeLoamCloud(msg, g, m.loam, &m.loam.less_flat, fmt, std::move(m.less_flat));
+    const Params& P = m.pipeline.params();
+    const LoamPointFormat fmt = P.loam_point_format;
+    // (the input format copies the records: its points stay as the sensor gave them)
+    f.deskewed = m.deskew && fmt == LoamPointFormat::Xyzi;
+    if (f.deskewed) m.deskewer.prepare(m.motion, P.scan_period, stampInSweep(msg.header.stamp, m.loam, P.scan_period));
+    const SweepDeskew* dk = f.deskewed ? &m.deskewer : nullptr;
+    const auto cloud = [&](const std::vector<std::uint32_t>* set, sensor_msgs::PointCloud2Ptr& keep) {
+      return keep = makeLoamCloud(msg, g, m.loam, set, fmt, std::move(keep), dk);
+    };
+    if (select.loam_cloud) out.loam_cloud = cloud(nullptr, m.loam_cloud);
+    if (select.sharp) out.sharp = cloud(&m.loam.sharp, m.sharp);
+    if (select.less_sharp) out.less_sharp = cloud(&m.loam.less_sharp, m.less_sharp);
+    if (select.flat) out.flat = cloud(&m.loam.flat, m.flat);
+    if (select.less_flat) out.less_flat = cloud(&m.loam.less_flat, m.less_flat);
     f.sharp = m.loam.sharp.size();
     f.less_sharp = m.loam.less_sharp.size();
     f.flat = m.loam.flat.size();

@@ -24,7 +24,8 @@ sensor_msgs::PointField floatField(const char* name, std::uint32_t offset)
 
 sensor_msgs::PointCloud2Ptr makeLoamCloud(const sensor_msgs::PointCloud2& input, const ScanGrid& grid,
                                           const LoamFeatures& features, const std::vector<std::uint32_t>* positions,
-                                          LoamPointFormat format, sensor_msgs::PointCloud2Ptr reuse)
+                                          LoamPointFormat format, sensor_msgs::PointCloud2Ptr reuse,
+                                          const SweepDeskew* deskew)
 {
   auto out = recycled(std::move(reuse));
   const std::size_t n = positions ? positions->size() : grid.size();
@@ -60,6 +61,7 @@ sensor_msgs::PointCloud2Ptr makeLoamCloud(const sensor_msgs::PointCloud2& input,
     const std::uint32_t p = at(i);
     float rec[8] = {static_cast<float>(grid.x[p]), static_cast<float>(grid.y[p]), static_cast<float>(grid.z[p]), 1.0f,
                     static_cast<float>(ring(p)) + features.sweep_time[p], 0.0f, 0.0f, 0.0f};
+    if (deskew) deskew->apply(features.sweep_time[p], rec[0], rec[1], rec[2]);
     std::memcpy(&out->data[i * kXyziPointStep], rec, sizeof rec);
   }
   return out;

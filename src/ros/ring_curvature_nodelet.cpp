@@ -68,6 +68,24 @@ void RingCurvatureNodelet::onInit()
   readQueueSize(pnh, "publish_queue_size", publish_queue_size_);
   processor_ = std::make_unique<FrameProcessor>(params);
   window_start_ = ros::WallTime::now();
+  const std::string odometry_topic = pnh.param<std::string>("deskew_odometry", "");
+  for (const auto& [name, value] : {std::pair<const char*, double*>{"deskew_max_age", &deskew_max_age_},
+                                     std::pair<const char*, double*>{"deskew_window", &deskew_window_}})
+  {
+    *value = pnh.param(name, *value);
+    if (!(*value > 0.0))
+    {
+      NODELET_FATAL("parameter '%s' must be > 0 s (got %g)", pnh.resolveName(name).c_str(), *value);
+      throw std::runtime_error(std::string("ring_curvature: invalid parameter ") + name);
+    }
+  }
+  if (!odometry_topic.empty())
+  {
+    // always subscribed: a few poses a second, and the history must be there when clouds come
+    odom_sub_ = nh.subscribe<nav_msgs::Odometry>(odometry_topic, 10,
+                                                 [this](const nav_msgs::OdometryConstPtr& o) { odometry_.add(*o); });
+    NODELET_INFO("LOAM clouds deskewed with the motion on %s", nh.resolveName(odometry_topic).c_str());
+  }
 
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<RingCurvatureConfig>>(reconfigure_mutex_, pnh);
   // Start from the loaded parameters, not the .cfg defaults.
@@ -160,6 +178,10 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
       stats_.have_last_seq = true;
       stats_.last_seq = seq;
       stats_.last_input_msg = msg.get();
+      SweepMotion motion;
+      const bool deskew = odom_sub_ && odometry_.motionFor(msg->header.stamp, processor_->params().scan_period,
+                                                           deskew_window_, deskew_max_age_, motion);
+      processor_->setSweepMotion(deskew ? &motion : nullptr);
       s = processor_->process(msg, out, select);
       if (s)
       {
@@ -169,6 +191,7 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
         for (int l = 0; l < kNumLabels; ++l)
           label_totals_[l] += last_summary_.label_counts[l];
         if (last_summary_.loam && last_summary_.degeneracy.degenerate) ++degenerate_frames_;
+        if (last_summary_.deskewed) ++deskewed_frames_;
         stats_.last_labelled = out.labelled.get();
         stats_.last_primitives = out.primitives.get();
         stats_.last_edges = out.edges.get();
@@ -231,6 +254,7 @@ void RingCurvatureNodelet::publishStats(const std_msgs::Header& header, std::chr
       st->weakest_direction[i] = s.degeneracy.weakest_direction[i];
     }
     st->degenerate = s.loam && s.degeneracy.degenerate;
+    st->deskewed = s.deskewed;
   }
   st->callback_ms = static_cast<float>(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_entry).count());
@@ -316,6 +340,7 @@ void RingCurvatureNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper&
     stat.add("LOAM weakest direction (last frame)", degeneracyText(f.degeneracy));
   }
   stat.add("LOAM frames degenerate", degenerate_frames_);
+  if (odom_sub_) stat.add("LOAM frames deskewed", deskewed_frames_);
   for (int l = 0; l < kNumLabels; ++l)
     stat.add(std::string("points labelled ") + labelName(static_cast<Label>(l)), label_totals_[l]);
 }

@@ -3,6 +3,7 @@
 // buffer published and subscribers get the very objects it published), laziness, two
 // independent instances, ring datatypes / reordered fields, and a bad frame followed by a good one.
 #include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
 #include <nodelet/loader.h>
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -374,6 +375,92 @@ TEST(NodeletInProcess, LoamOutputsSortedByRingWithSweepTimes)
   double norm = 0;
   for (const double v : st.weakest_direction) norm += v * v;
   EXPECT_NEAR(1.0, norm, 1e-6);
+}
+
+// Deskew (~deskew_odometry): with two recent poses the LOAM clouds move each point by the motion
+// up to its firing time (the sweep's start is the stamp here); a frame far from the last pose is
+// left as it is and says so on ~frame_stats.
+TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
+{
+  Manager m;
+  ros::NodeHandle nh;
+  nh.setParam("/rc_deskew/deskew_odometry", "/odom_deskew");
+  auto deskewed = m.load("/rc_deskew", "/input_deskew");
+  auto plain = m.load("/rc_plain", "/input_deskew");
+  ASSERT_TRUE(deskewed && plain);
+  ros::Publisher pub = nh.advertise<PointCloud2>("/input_deskew", 2);
+  ros::Publisher odom = nh.advertise<nav_msgs::Odometry>("/odom_deskew", 10, true);
+  std::mutex mutex;
+  PointCloud2::ConstPtr got[2];
+  ring_curvature::FrameStats::ConstPtr stats;
+  std::vector<ros::Subscriber> subs;
+  for (int i = 0; i < 2; ++i)
+    subs.push_back(nh.subscribe<PointCloud2>(i == 0 ? "/rc_deskew/loam/cloud" : "/rc_plain/loam/cloud", 10,
+                                             [&, i](const PointCloud2::ConstPtr& c) {
+                                               std::lock_guard<std::mutex> l(mutex);
+                                               got[i] = c;
+                                             }));
+  subs.push_back(nh.subscribe<ring_curvature::FrameStats>("/rc_deskew/frame_stats", 10,
+                                                          [&](const ring_curvature::FrameStats::ConstPtr& st) {
+                                                            std::lock_guard<std::mutex> l(mutex);
+                                                            stats = st;
+                                                          }));
+  // (both nodelets live in this process: roscpp counts them as one subscriber)
+  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0 && odom.getNumSubscribers() > 0; }));
+  // 6 m/s straight ahead: 0.6 m per 0.1 s sweep
+  const ros::Time stamp = frames()[0]->header.stamp;
+  for (int k = 2; k >= 1; --k)
+  {
+    nav_msgs::Odometry o;
+    o.header.stamp = stamp - ros::Duration(0.1 * k);
+    o.pose.pose.orientation.w = 1.0;
+    o.pose.pose.position.x = 6.0 * (o.header.stamp - stamp).toSec();
+    odom.publish(o);
+    ros::WallDuration(0.05).sleep();
+  }
+  const auto publishAndWait = [&](const ros::Time& t) {
+    {
+      std::lock_guard<std::mutex> l(mutex);
+      got[0] = got[1] = nullptr;
+      stats = nullptr;
+    }
+    auto in = copyOf(*frames()[0]);
+    in->header.stamp = t;
+    pub.publish(in);
+    return waitUntil([&] {
+      std::lock_guard<std::mutex> l(mutex);
+      return got[0] && got[1] && stats;
+    });
+  };
+  ASSERT_TRUE(publishAndWait(stamp));
+  {
+    std::lock_guard<std::mutex> l(mutex);
+    EXPECT_TRUE(stats->deskewed);
+    ASSERT_EQ(got[0]->width, got[1]->width);
+    std::size_t early = 0, late = 0;
+    for (std::uint32_t k = 0; k < got[0]->width; ++k)
+    {
+      float a[5], b[5];
+      std::memcpy(a, &got[0]->data[k * 32u], 20);
+      std::memcpy(b, &got[1]->data[k * 32u], 20);
+      ASSERT_EQ(a[4], b[4]) << "same point, same ring and time, at " << k;
+      const float t = a[4] - std::floor(a[4]);
+      // moved forward by the distance driven since the sweep began, sideways and up not at all
+      EXPECT_NEAR(a[0] - b[0], 6.0f * t, 2e-3f) << "at " << k;
+      EXPECT_NEAR(a[1] - b[1], 0.0f, 1e-3f);
+      EXPECT_NEAR(a[2] - b[2], 0.0f, 1e-3f);
+      early += t < 0.01f ? 1 : 0;
+      late += t > 0.09f ? 1 : 0;
+    }
+    EXPECT_GT(early, 100u);
+    EXPECT_GT(late, 100u);
+  }
+  // ten seconds after the last pose: no motion model, the points as they are
+  ASSERT_TRUE(publishAndWait(stamp + ros::Duration(10.0)));
+  std::lock_guard<std::mutex> l(mutex);
+  EXPECT_FALSE(stats->deskewed);
+  ASSERT_EQ(got[0]->width, got[1]->width);
+  EXPECT_EQ(0, std::memcmp(got[0]->data.data(), got[1]->data.data(), got[0]->data.size()));
 }
 
 TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)

@@ -13,6 +13,7 @@
 #include "ring_curvature/loam_features.hpp"
 #include "ring_curvature/params.hpp"
 #include "ring_curvature/ros/primitive_message.hpp"
+#include "ring_curvature/sweep_deskew.hpp"
 #include "ring_curvature/types.hpp"
 
 namespace ring_curvature
@@ -58,6 +59,7 @@ struct FrameSummary
   std::size_t sharp = 0, less_sharp = 0, flat = 0, less_flat = 0;
   DegeneracyReport degeneracy;
   double loam_ms = 0;  ///< choosing the sets (core), within messages_ms
+  bool deskewed = false;  ///< the LOAM clouds' points were moved to the sweep's start
   double coreMs() const { return grid_ms + features_ms + thresholds_ms + classification_ms + primitives_ms + core_output_ms; }
 };
 
@@ -78,6 +80,10 @@ public:
   {
     return process(*msg, out, select);
   }
+
+  /// The sensor's motion over the next frame's sweep: its LOAM clouds (xyzi format) are then
+  /// deskewed to the sweep's start. Null: taken as they are.
+  void setSweepMotion(const SweepMotion* motion);
 
   /// Counts and timings of the last successful frame.
   const FrameSummary& summary() const { return summary_; }

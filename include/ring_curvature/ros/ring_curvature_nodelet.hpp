@@ -19,6 +19,7 @@
 #include "ring_curvature/PrimitiveArray.h"
 #include "ring_curvature/RingCurvatureConfig.h"
 #include "ring_curvature/ros/frame_processor.hpp"
+#include "ring_curvature/ros/odometry_motion.hpp"
 
 namespace ring_curvature
 {
@@ -70,6 +71,12 @@ private:
   std::size_t degenerate_frames_ = 0;  // LOAM-assessed frames found degenerate
   int queue_size_ = 1;          // ~queue_size: input subscriber queue
   int publish_queue_size_ = 1;  // ~publish_queue_size: outgoing queue per remote subscriber
+  // ~deskew_odometry: the LOAM clouds are deskewed with the motion of its last two poses
+  ros::Subscriber odom_sub_;
+  OdometryMotion odometry_;
+  double deskew_max_age_ = 0.5;  // ~deskew_max_age [s]
+  double deskew_window_ = 0.5;   // ~deskew_window [s]
+  std::size_t deskewed_frames_ = 0;
 
   // Guards processor_ (its parameters change from the reconfigure callback) and stats_.
   mutable std::mutex process_mutex_;

@@ -207,6 +207,7 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
   const std::size_t n = grid.size();
   out.sweep_time.resize(n);
   out.time_from_field = false;
+  out.first_time = 0.0;
   const double period = params.scan_period;
   if (view.time.present() && n > 0)
   {
@@ -229,6 +230,7 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
         out.sweep_time[p] = static_cast<float>(std::min(std::max(t, 0.0), period));
       }
       out.time_from_field = true;
+      out.first_time = lo * view.time_scale;
       return;
     }
   }
