@@ -20,6 +20,7 @@ set(RC_CORE_SOURCES
   src/core/classification/ring_thresholds.cpp
   src/core/classification/classifier.cpp
   src/core/classification/inter_ring.cpp
+  src/core/classification/inter_ring_windows.cpp
   src/core/primitives/ring_unions.cpp
   src/core/primitives/primitive_sums.cpp
   src/core/primitives/covariance_axis.cpp

@@ -40,10 +40,15 @@ private:
   void roughness(const ScanGrid& grid, const Features& f, const Params& params);
   /// The lower quartile of the finite values (0 when none).
   float lowerQuartile(const std::vector<float>& values);
-  /// Per position: samples and rough samples within rough_window_half along its ring.
+  /// Per position: samples and rough samples within rough_window_half along its ring (win_).
   void ringWindows(const ScanGrid& grid, const Params& params);
-  /// Share of rough samples in the window of p (its ring and rough_window_rings above and below).
-  float roughShare(std::uint32_t p, int rings) const;
+  /// win_ of p from its linked neighbours (ring ends and short rings, where the window may wrap).
+  std::uint32_t walkedWindow(std::uint32_t p, int h, bool short_ring) const;
+  /// Each position's share of rough samples in its window (its ring and `rings` above and below)
+  /// into share_; with inter_ring_roughness, Plane and Rough labels decided by it on the way.
+  void shares(int rings, const Params& params, std::vector<Label>& labels);
+  /// The Edge and Corner labels' steps: Edge support, foliage, occlusion.
+  void refineFeatures(const ScanGrid& grid, const Params& params, bool share_needed, std::vector<Label>& labels);
   /// Each sample's linked neighbours along its ring (prev_, next_).
   void ringLinks(const ScanGrid& grid);
   std::int32_t twoBack(std::uint32_t p) const
@@ -75,24 +80,30 @@ private:
   bool stacked(std::uint32_t p, const double* rho, const Params& params, const Flagged& flagged) const
   {
     const std::int32_t u = up_[p], d = down_[p];
+    const std::int32_t places[4] = {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
+                                    d >= 0 ? down_[static_cast<std::size_t>(d)] : -1};
     int count = 0;
-    for (const std::int32_t q : {u, d, u >= 0 ? up_[static_cast<std::size_t>(u)] : -1,
-                                 d >= 0 ? down_[static_cast<std::size_t>(d)] : -1})
-      count += near(q, rho[p], rho, params, flagged) ? 1 : 0;
+    for (int i = 0; i < 4; ++i)
+    {
+      if (count + 4 - i < params.thin_min_stack) return false;  // (the places left cannot make it)
+      count += near(places[i], rho[p], rho, params, flagged) ? 1 : 0;
+    }
     return count >= params.thin_min_stack;
   }
   /// Whether p is the near side of a depth jump or of a gap along its ring.
   bool silhouette(std::int32_t p, const double* rho, const Params& params) const;
 
-  std::vector<std::int32_t> up_, down_;  // -1: none
+  const std::int32_t* up_ = nullptr;     // the grid's own up where it needs no filter, else own_up_
+  std::vector<std::int32_t> own_up_, down_;  // -1: none
   std::vector<std::int32_t> prev_, next_;  // linked neighbours along the ring, -1: none
-  std::vector<std::uint8_t> win_total_, win_rough_;  // the window along the ring: samples, rough ones
-  std::vector<std::uint32_t> cum_, seg_end_;          // per ring: rough samples before p; p's segment's last
+  std::vector<std::uint32_t> win_;       // the window along the ring: samples | rough ones << 16
+  std::vector<std::uint32_t> chain_[4];  // window sums up / down the rings (two buffers a side)
+  std::vector<float> share_;             // share of rough samples in the window over rings
   std::vector<float> across_;            // rho - mean of the ranges above and below (NaN: none)
   std::vector<float> vert_, ring_s_;     // the cross-ring and ring-wise roughness, range-scaled
   std::vector<float> scratch_;
   float noise_sigma_ = 0.0f;             // the frame's range noise, estimated from vert_
-  std::vector<std::uint8_t> rough_, thin_, occluder_, ring_feature_;
+  std::vector<std::uint8_t> rough_, thin_, run_break_, occluder_, ring_feature_;
 };
 
 }  // namespace ring_curvature
