@@ -45,7 +45,7 @@ bool vertical(const ScanGrid& g, std::uint32_t p, Vec& d)
 // Samples each way along the ring for its direction: one sample's few centimetres would let
 // range noise tilt the normal, and the tilt would read as information in every direction.
 constexpr int kAlongSamples = 10;
-constexpr std::size_t kMaxPlanes = 8000;
+constexpr std::size_t kMaxPlanes = 4000;
 
 /// Along the ring through p: the chord between the linked samples kAlongSamples each way (fewer
 /// at a gap).
