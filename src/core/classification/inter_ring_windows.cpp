@@ -21,7 +21,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // The range less the mean of the ranges above and below (NaN where either is missing): the same
 // all along a ring on a plane, a horizontal crease or a beam's range bias, scattered on foliage.
-// Branch-free (a missing neighbour reads the sample itself, then is masked) so that it vectorizes.
+// Branch-free: a missing neighbour reads the sample itself, then is masked.
 RC_SIMD_CLONES void acrossRings(std::size_t m, const std::int32_t* __restrict up, const std::int32_t* __restrict down,
                                 const double* __restrict rho, float* __restrict out)
 {
