@@ -27,7 +27,8 @@ public:
   void apply(float t, float& x, float& y, float& z) const
   {
     const float f = t * steps_per_second_;
-    const int k = f <= 0.0f ? 0 : (f >= static_cast<float>(kSteps) ? kSteps : static_cast<int>(f + 0.5f));
+    // (a NaN time, from a NaN in the time field, takes the first entry: no out-of-range index)
+    const int k = !(f > 0.0f) ? 0 : (f >= static_cast<float>(kSteps) ? kSteps : static_cast<int>(f + 0.5f));
     const std::array<float, 12>& m = table_[static_cast<std::size_t>(k)];
     const float px = x, py = y, pz = z;
     x = m[0] * px + m[1] * py + m[2] * pz + m[9];

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "ring_curvature/sweep_deskew.hpp"
 
@@ -78,4 +79,10 @@ TEST(SweepDeskew, TimesOutsideTheSweepAreClamped)
   x = 0;
   d.apply(-0.5f, x, y, z);
   EXPECT_NEAR(x, 0.0f, 1e-6);
+  x = 0;
+  d.apply(std::numeric_limits<float>::quiet_NaN(), x, y, z);  // as at the sweep's start
+  EXPECT_NEAR(x, 0.0f, 1e-6);
+  x = 0;
+  d.apply(std::numeric_limits<float>::infinity(), x, y, z);  // as at its end
+  EXPECT_NEAR(x, 1.0f, 1e-6);
 }

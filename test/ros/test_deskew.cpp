@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "ring_curvature/ros/frame_processor.hpp"
 #include "ring_curvature/ros/odometry_motion.hpp"
@@ -166,4 +167,25 @@ TEST(FrameProcessorDeskew, PointsReferToTheStampWhateverTheTimeConvention)
       ASSERT_EQ(pa[k][2], pb[k][2]);
     }
   }
+}
+
+// A NaN in the time field (a driver's bad record) must not take the deskew out of its table.
+TEST(FrameProcessorDeskew, NanTimesAreSurvived)
+{
+  sensor_msgs::PointCloud2 in = cylinder(0.0);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < in.width; k += 97) std::memcpy(&in.data[k * in.point_step + 12], &nan, 4);
+  SweepMotion motion;
+  motion.rotation = {0.0, 0.0, 0.05};
+  motion.translation = {0.6, 0.0, 0.0};
+  FrameProcessor fp;
+  fp.setSweepMotion(&motion);
+  OutputSelection select;
+  select.loam_cloud = true;
+  Outputs out;
+  ASSERT_TRUE(fp.process(in, out, select).ok);
+  EXPECT_TRUE(fp.summary().deskewed);
+  std::size_t finite = 0;
+  for (const auto& p : points(*out.loam_cloud)) finite += std::isfinite(p[0] + p[1] + p[2]) ? 1 : 0;
+  EXPECT_EQ(finite, out.loam_cloud->width);
 }
