@@ -53,5 +53,15 @@ void ring_curvature::fuzz::fuzzAdapter(const Input& in, const Params& params)
   for (const auto* c : {lo.loam_cloud.get(), lo.sharp.get(), lo.less_sharp.get(), lo.flat.get(), lo.less_flat.get()})
     require(c->data.size() == static_cast<std::size_t>(c->width) * c->point_step, "LOAM cloud's data matches its width");
   require(lo.sharp->width <= lo.less_sharp->width && lo.flat->width <= lo.less_flat->width, "sharp within less sharp, flat within less flat");
+
+  // Deskewed (a turn at 6 m/s): the same points, moved; whatever the time field holds.
+  SweepMotion motion;
+  motion.rotation = {0.0, 0.0, 0.05};
+  motion.translation = {0.6, 0.0, 0.0};
+  processor.setSweepMotion(&motion);
+  Outputs dk;
+  require(processor.process(msg, dk, loam).ok, "a frame accepted is accepted deskewed");
+  require(dk.loam_cloud && dk.loam_cloud->width == lo.loam_cloud->width, "deskewing keeps every point");
+  processor.setSweepMotion(nullptr);
 }
 
