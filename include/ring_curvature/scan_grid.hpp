@@ -45,6 +45,9 @@ struct ScanGrid
   UninitializedVector<float> azimuth;         ///< [rad] in [-pi, pi)
   UninitializedVector<std::uint8_t> linked;   ///< 1 when connected to its predecessor on the ring (no gap)
   UninitializedVector<std::int32_t> up;       ///< nearest position on ring n+1 (azimuth), -1 if none
+  /// Unorganized grids (empty when organized): the last position on ring n-1 at or before the
+  /// azimuth, or that ring's first if none; -1 on ring 0 or above an empty ring.
+  UninitializedVector<std::int32_t> below;
 
   // per input point
   UninitializedVector<PointState> state;

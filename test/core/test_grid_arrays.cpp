@@ -34,7 +34,7 @@ void expectRingElevation(const ScanGrid& g, int r, double sines, std::uint32_t n
 // The nearest sample on the ring above against its definition: of the last sample above at or
 // before the azimuth (the ring's first when there is none), its successor (the ring's first
 // after its last) and the ring's last one, the circularly nearest, the first of equals in that
-// order. Rings of unlike densities (7 to 3600 samples), gaps of every length on both rings,
+// order; `below`, the last sample below at or before the azimuth, likewise. Rings of unlike densities (7 to 3600 samples), gaps of every length on both rings,
 // shifted starts and an empty ring, and an 1800-sample ring under a 3600 one (the walk moves
 // two samples above for one below).
 TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
@@ -67,6 +67,7 @@ TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
   const ScanGrid& g = p.grid();
   ASSERT_EQ(g.num_rings, rings);
   ASSERT_EQ(g.up.size(), g.size());
+  ASSERT_EQ(g.below.size(), g.size());
   const auto circ = [](float d) {
     const float a = std::fabs(d);
     return a > 3.14159265358979f ? 6.28318530717959f - a : a;
@@ -77,8 +78,14 @@ TEST(ScanGrid, VerticalNeighboursMatchTheirDefinition)
     const std::uint32_t b = g.ring_begin[n], e = g.ring_begin[n + 1];
     const std::uint32_t ub = e, ue = n + 1 < rings ? g.ring_begin[n + 2] : e;
     EXPECT_GE(e - b, static_cast<std::uint32_t>(samples[n] / 2)) << n;  // nearly all kept
+    const std::uint32_t bb = n > 0 ? g.ring_begin[n - 1] : b;
     for (std::uint32_t pos = b; pos < e; ++pos)
     {
+      // below: the last position on the ring below at or before the azimuth (its first if none)
+      std::int32_t last = bb < b ? static_cast<std::int32_t>(bb) : -1;
+      for (std::uint32_t k = bb + 1; k < b; ++k)
+        if (g.azimuth[k] <= g.azimuth[pos]) last = static_cast<std::int32_t>(k);
+      ASSERT_EQ(g.below[pos], last) << "ring " << n << " position " << pos;
       if (ub == ue)
       {
         EXPECT_EQ(g.up[pos], -1) << pos;

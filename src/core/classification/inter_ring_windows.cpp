@@ -89,28 +89,16 @@ RC_SIMD_CLONES void downOrganized(std::size_t m, std::size_t width, const std::u
   }
 }
 
-// down[p]: the last sample of ring (bb, be) at or before p's azimuth (or bb), for a ring (b, e).
-void walkBelow(const float* az, std::int32_t* down, std::uint32_t b, std::uint32_t e, std::uint32_t bb,
-               std::uint32_t be)
-{
-  std::uint32_t q = bb;
-  for (std::uint32_t p = b; p < e; ++p)
-  {
-    const float a = az[p];
-    while (q + 1 < be && az[q + 1] <= a) ++q;
-    down[p] = static_cast<std::int32_t>(q);
-  }
-}
-
-// The walk's sample q or the one after it (around the seam: the ring's last or first), whichever
+// The grid's `below` q or the one after it (around the seam: the ring's last or first), whichever
 // is nearer, if within tol. A loop of its own so that the coin tosses are selections, not branches.
 RC_SIMD_CLONES void nearestBelow(std::uint32_t b, std::uint32_t e, std::uint32_t bb, std::uint32_t be, float tol,
-                                 const float* __restrict az, std::int32_t* __restrict down)
+                                 const float* __restrict az, const std::int32_t* __restrict below,
+                                 std::int32_t* __restrict down)
 {
   for (std::uint32_t p = b; p < e; ++p)
   {
     const float a = az[p];
-    const auto q = static_cast<std::uint32_t>(down[p]);
+    const auto q = static_cast<std::uint32_t>(below[p]);
     const bool before = az[q] <= a;
     const std::uint32_t lo = before ? q : be - 1, hi = q + 1 < be && before ? q + 1 : bb;
     const float d_lo = circularDistance(a - az[lo]), d_hi = circularDistance(az[hi] - a);
@@ -218,7 +206,7 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
 {
   const std::size_t m = g.size();
   down_.resize(m);
-  if (g.up.size() != m)
+  if (g.up.size() != m || (!g.organized && g.below.size() != m))
   {
     own_up_.assign(m, -1);
     up_ = own_up_.data();
@@ -239,8 +227,8 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
   own_up_.resize(m);
   upWithin(m, tol, g.up.data(), az, own_up_.data());
   up_ = own_up_.data();
-  // the nearest sample on the ring below: both rings in azimuth order, walked together to the
-  // last sample below at or before p's azimuth; the nearest is it or the one after it
+  // the nearest sample on the ring below: the grid's last one at or before p's azimuth (found in
+  // the same walk as up) or the one after it
   for (int n = 0; n < g.num_rings; ++n)
   {
     const RingSpan R(g, n);
@@ -250,8 +238,7 @@ void InterRingRefiner::verticalNeighbours(const ScanGrid& g)
       continue;
     }
     const RingSpan B(g, n - 1);
-    walkBelow(az, down_.data(), R.b, R.end(), B.b, B.end());
-    nearestBelow(R.b, R.end(), B.b, B.end(), tol, az, down_.data());
+    nearestBelow(R.b, R.end(), B.b, B.end(), tol, az, g.below.data(), down_.data());
   }
 }
 

@@ -98,6 +98,7 @@ Status ScanGridBuilder::build(const PointCloudView& view, const Params& params, 
     grid.duplicates.clear();
     grid.linked.clear();
     grid.up.clear();
+    grid.below.clear();
   };
   clear();
   grid.organized = view.organized();

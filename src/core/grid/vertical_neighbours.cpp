@@ -38,17 +38,30 @@ RC_SIMD_CLONES void nearestAbove(std::uint32_t b, std::uint32_t e, std::uint32_t
 }
 
 // The walk for a ring (b, e) under the ring above (ub, ue): up[p] the last sample above at or
-// before p's azimuth (or ub), which nearestAbove then turns into the nearest.
-void walkAbove(const float* az, std::int32_t* up, std::uint32_t b, std::uint32_t e, std::uint32_t ub,
-               std::uint32_t ue)
+// before p's azimuth (or ub), which nearestAbove then turns into the nearest. The same walk gives
+// the ring above its `below`: a sample above passed at p lies after p - 1 and at or before p, so
+// p - 1 it is but for equal azimuths (rare: a test, not a walk); the first is walked from b, and
+// those never passed lie after the whole ring.
+void walkAbove(const float* az, std::int32_t* up, std::int32_t* below, std::uint32_t b, std::uint32_t e,
+               std::uint32_t ub, std::uint32_t ue)
 {
+  const auto lastAtOrBefore = [&](std::uint32_t from, float a) {
+    while (from + 1 < e && az[from + 1] <= a) ++from;
+    return static_cast<std::int32_t>(from);
+  };
   std::uint32_t q = ub;
   for (std::uint32_t p = b; p < e; ++p)
   {
     const float a = az[p];
-    while (q + 1 < ue && az[q + 1] <= a) ++q;
+    while (q + 1 < ue && az[q + 1] <= a)
+    {
+      ++q;
+      below[q] = p > b && az[q] < a ? static_cast<std::int32_t>(p - 1) : lastAtOrBefore(p > b ? p - 1 : b, az[q]);
+    }
     up[p] = static_cast<std::int32_t>(q);
   }
+  below[ub] = lastAtOrBefore(b, az[ub]);
+  std::fill(below + q + 1, below + ue, static_cast<std::int32_t>(e - 1));
 }
 
 // Organized: the grid position of the point one row up of each position p < m.
@@ -76,20 +89,24 @@ void ScanGridBuilder::findVerticalNeighbours(ScanGrid& grid)
   }
   // Positions of a ring followed by a non-empty one are written below; only the others get -1.
   grid.up.resize(m);
+  grid.below.resize(m);
   // Walk the two sorted rings together to the last sample above at or before each azimuth; the
   // choice of the nearest is a loop of its own (nearestAbove) so that it vectorizes.
   const float* const az = grid.azimuth.data();
   std::int32_t* const up = grid.up.data();
+  std::int32_t* const below = grid.below.data();
+  if (grid.num_rings > 0) std::fill(below, below + grid.ring_begin[1], -1);  // nothing below ring 0
   for (int n = 0; n + 1 < grid.num_rings; ++n)
   {
     const std::uint32_t b = grid.ring_begin[static_cast<std::size_t>(n)], e = grid.ring_begin[static_cast<std::size_t>(n) + 1];
     const std::uint32_t ub = e, ue = grid.ring_begin[static_cast<std::size_t>(n) + 2];
-    if (ub == ue)
+    if (ub == ue || b == e)
     {
       std::fill(up + b, up + e, -1);
+      std::fill(below + ub, below + ue, -1);
       continue;
     }
-    walkAbove(az, up, b, e, ub, ue);
+    walkAbove(az, up, below, b, e, ub, ue);
     nearestAbove(b, e, ub, ue, az, up);
   }
   if (grid.num_rings > 0)  // the top ring has none above it
