@@ -59,7 +59,7 @@ struct FrameSummary
   std::size_t sharp = 0, less_sharp = 0, flat = 0, less_flat = 0;
   DegeneracyReport degeneracy;
   double loam_ms = 0;  ///< choosing the sets (core), within messages_ms
-  bool deskewed = false;  ///< the LOAM clouds' points were moved to the sweep's start
+  bool deskewed = false;  ///< the LOAM clouds' points were moved to the sensor pose at the stamp
   double coreMs() const { return grid_ms + features_ms + thresholds_ms + classification_ms + primitives_ms + core_output_ms; }
 };
 
@@ -82,7 +82,7 @@ public:
   }
 
   /// The sensor's motion over the next frame's sweep: its LOAM clouds (xyzi format) are then
-  /// deskewed to the sweep's start. Null: taken as they are.
+  /// deskewed to the sensor pose at its stamp. Null: taken as they are.
   void setSweepMotion(const SweepMotion* motion);
 
   /// Counts and timings of the last successful frame.

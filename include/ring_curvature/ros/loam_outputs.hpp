@@ -23,7 +23,7 @@ constexpr std::uint32_t kXyziIntensityOffset = 16;
 /// New unorganized cloud of the grid positions `positions` (in ring order; all of the grid when
 /// null), with the input's header. Xyzi: x, y, z and intensity = ring + seconds since the sweep
 /// began (LOAM's "scanID + scanPeriod * relTime"). Input: each point's input record, every field.
-/// Xyzi with `deskew`: x, y, z moved to the sensor frame at the sweep's start.
+/// Xyzi with `deskew`: x, y, z moved to the sensor frame at the deskew's reference time (the stamp).
 /// (`reuse` as for makeLabelledCloud.)
 sensor_msgs::PointCloud2Ptr makeLoamCloud(const sensor_msgs::PointCloud2& input, const ScanGrid& grid,
                                           const LoamFeatures& features, const std::vector<std::uint32_t>* positions,

@@ -71,7 +71,7 @@ private:
   std::size_t degenerate_frames_ = 0;  // LOAM-assessed frames found degenerate
   int queue_size_ = 1;          // ~queue_size: input subscriber queue
   int publish_queue_size_ = 1;  // ~publish_queue_size: outgoing queue per remote subscriber
-  // ~deskew_odometry: the LOAM clouds are deskewed with the motion of its last two poses
+  // ~deskew_odometry: the LOAM clouds are deskewed with its mean motion over ~deskew_window
   ros::Subscriber odom_sub_;
   OdometryMotion odometry_;
   double deskew_max_age_ = 0.5;  // ~deskew_max_age [s]
