@@ -3,7 +3,8 @@
 // Times every stage of the core pipeline over every PointCloud2 frame of a bag, N times, and with
 // --baselines also PCL's PCA curvature (k = 10) and Euclidean clustering on the same frames in the
 // same process. Prints a table of medians; the LAST line is machine-readable key=value pairs:
-//   frames=… points=… pipeline_ms=… pca_curv_ms=… euclid_ms=… speedup_pca=…
+//   frames=… points=… pipeline_ms=… pca_curv_ms=… euclid_ms=… speedup_pca=… loam_ms=…
+// (loam_ms: the LOAM feature sets of the SLAM front end, selected after the pipeline, not in it)
 #include <rosbag/bag.h>
 #include <rosbag/query.h>
 #include <rosbag/view.h>
@@ -170,7 +171,8 @@ int main(int argc, char** argv)
       return 1;
     }
   }
-  std::vector<double> t_grid, t_feat, t_thr, t_cls, t_prim, t_out, t_stage_sum, t_wall;
+  std::vector<double> t_grid, t_feat, t_thr, t_cls, t_prim, t_out, t_stage_sum, t_wall, t_loam;
+  rc::LoamFeatures loam;  // the SLAM front end's sets, selected after the labels as the nodelet does
   std::size_t primitives = 0;
   std::array<std::size_t, rc::kNumLabels> counts{};
   for (int r = 0; r < opt.repeat; ++r)
@@ -188,6 +190,9 @@ int main(int argc, char** argv)
       t_prim.push_back(t.primitives);
       t_out.push_back(t.output);
       t_stage_sum.push_back(t.total());
+      const auto tl = Clock::now();
+      pipeline.selectLoamFeatures(v, loam);
+      t_loam.push_back(msSince(tl));
       if (r == 0)
       {
         primitives += result.primitives.primitives.size();
@@ -241,6 +246,7 @@ int main(int argc, char** argv)
   printRow("output", t_out);
   printRow("sum of stages", t_stage_sum);
   printRow("pipeline (wall)", t_wall);
+  printRow("LOAM sets", t_loam);
   const double pipeline_ms = rc::bench::median(t_wall);
   double pca_ms = std::nan(""), euclid_ms = std::nan(""), speedup = std::nan("");
   if (opt.baselines)
@@ -251,7 +257,7 @@ int main(int argc, char** argv)
     euclid_ms = rc::bench::median(t_euclid);
     speedup = pca_ms / pipeline_ms;
   }
-  std::printf("frames=%zu points=%.0f pipeline_ms=%.4f pca_curv_ms=%.3f euclid_ms=%.3f speedup_pca=%.1f\n",
-              views.size(), mean_points, pipeline_ms, pca_ms, euclid_ms, speedup);
+  std::printf("frames=%zu points=%.0f pipeline_ms=%.4f pca_curv_ms=%.3f euclid_ms=%.3f speedup_pca=%.1f loam_ms=%.4f\n",
+              views.size(), mean_points, pipeline_ms, pca_ms, euclid_ms, speedup, rc::bench::median(t_loam));
   return 0;
 }

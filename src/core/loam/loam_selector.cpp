@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace ring_curvature
@@ -19,12 +20,49 @@ constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
 
 std::uint64_t voxelKey(double x, double y, double z, double inv)
 {
-  // 21 bits per axis: +-1e6 voxels, i.e. +-200 km at 0.2 m, beyond any LiDAR's range.
+  // 21 bits per axis: +-1e6 voxels, i.e. +-200 km at 0.2 m, beyond any LiDAR's range. The floor
+  // by truncation: std::floor is a library call on baseline x86-64, once per axis and point.
   const auto axis = [inv](double v) {
-    const double c = std::floor(v * inv) + 1048576.0;
-    return static_cast<std::uint64_t>(std::min(std::max(c, 0.0), 2097151.0));
+    const double t = std::min(std::max(v * inv, -1048576.0), 1048575.0);
+    auto c = static_cast<std::int64_t>(t);
+    if (static_cast<double>(c) > t) --c;
+    return static_cast<std::uint64_t>(c + 1048576);
   };
   return axis(x) << 42 | axis(y) << 21 | axis(z);
+}
+
+/// A candidate as one integer that orders as LOAM does (the sharpest, or the flattest, first;
+/// then by position): the bits of a non-negative float order as the float, and integer keys
+/// are several times faster to select and sort than a score-and-position pair.
+std::uint64_t candidateKey(float turn, bool sharpest_first, std::uint32_t pos)
+{
+  const float a = std::fabs(turn);
+  std::uint32_t bits;
+  std::memcpy(&bits, &a, sizeof bits);
+  return static_cast<std::uint64_t>(sharpest_first ? ~bits : bits) << 32 | pos;
+}
+
+/// Each grid point's time field (read(record) gives it), by grid position, and their range
+/// (lo, hi). In input order: the records are read as they lie, not scattered in grid order.
+template <typename Read>
+void readTimes(const PointCloudView& view, const ScanGrid& grid, Read read, std::vector<double>& out, double& lo, double& hi)
+{
+  for (std::size_t i = 0; i < grid.num_input; ++i)
+  {
+    if (grid.state[i] != PointState::OnGrid) continue;
+    const double t = read(view.record(i) + view.time.offset);
+    out[static_cast<std::size_t>(grid.grid_pos[i])] = t;
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+}
+
+template <typename T>
+double load(const std::uint8_t* p)
+{
+  T v;
+  std::memcpy(&v, p, sizeof v);  // (records may be packed)
+  return static_cast<double>(v);
 }
 }  // namespace
 
@@ -53,7 +91,7 @@ void LoamSelector::select(const PointCloudView& view, const ScanGrid& grid, cons
         const Label l = labels[p];
         const float turn = f.turning[p];
         if ((l == Label::Edge || l == Label::Corner) && !blocked_[p] && std::isfinite(turn))
-          sharp_.push_back({-std::fabs(turn), p});
+          sharp_.push_back(candidateKey(turn, true, p));
       }
       pick(grid, s, sharp_, params.loam_less_sharp_per_sector, params.loam_suppression, out.less_sharp, &out.sharp,
            params.loam_sharp_per_sector);
@@ -61,8 +99,7 @@ void LoamSelector::select(const PointCloudView& view, const ScanGrid& grid, cons
       for (std::uint32_t p = lo; p < hi; ++p)
       {
         const float turn = f.turning[p];
-        if (labels[p] == Label::Plane && !blocked_[p] && std::isfinite(turn))
-          flat_.push_back({std::fabs(turn), p});
+        if (labels[p] == Label::Plane && !blocked_[p] && std::isfinite(turn)) flat_.push_back(candidateKey(turn, false, p));
       }
       pick(grid, s, flat_, params.loam_flat_per_sector, params.loam_suppression, out.flat, nullptr, 0);
     }
@@ -127,22 +164,21 @@ void LoamSelector::block(const ScanGrid& grid, const RingSpan& s, std::uint32_t 
   }
 }
 
-void LoamSelector::pick(const ScanGrid& grid, const RingSpan& s, std::vector<Candidate>& cand, int quota, int suppression,
+void LoamSelector::pick(const ScanGrid& grid, const RingSpan& s, std::vector<std::uint64_t>& cand, int quota, int suppression,
                         std::vector<std::uint32_t>& out, std::vector<std::uint32_t>* also, int also_quota)
 {
   if (quota <= 0 || cand.empty()) return;
-  const auto less = [](const Candidate& a, const Candidate& b) { return a.score < b.score || (a.score == b.score && a.pos < b.pos); };
   // Each pick blocks at most 2 * suppression others, so the best quota * (2s + 1) suffice.
   // (Less sharp picks that block nothing only make that more than enough.)
   const std::size_t need = std::min(cand.size(), static_cast<std::size_t>(quota) * (2 * static_cast<std::size_t>(suppression) + 1));
   // The best `need` in linear time, then only those sorted.
   const auto mid = cand.begin() + static_cast<std::ptrdiff_t>(need);
-  if (need < cand.size()) std::nth_element(cand.begin(), mid, cand.end(), less);
-  std::sort(cand.begin(), mid, less);
+  if (need < cand.size()) std::nth_element(cand.begin(), mid, cand.end());
+  std::sort(cand.begin(), mid);
   int taken = 0;
   for (std::size_t i = 0; i < need && taken < quota; ++i)
   {
-    const std::uint32_t p = cand[i].pos;
+    const auto p = static_cast<std::uint32_t>(cand[i]);
     if (blocked_[p]) continue;
     out.push_back(p);
     // Only the points odometry matches (sharp, flat) keep their neighbours out; the less sharp
@@ -177,8 +213,11 @@ void LoamSelector::lessFlat(const ScanGrid& grid, std::uint32_t b, std::uint32_t
   if (voxel_keys_.size() < cap) voxel_keys_.assign(cap, kNoKey);
   const std::size_t mask = cap - 1;
   const double inv = 1.0 / voxel;
+  std::uint64_t last = kNoKey;  // (along a ring most points share their predecessor's voxel)
   const auto insert = [&](std::uint32_t p) {
     const std::uint64_t key = voxelKey(grid.x[p], grid.y[p], grid.z[p], inv);
+    if (key == last) return false;
+    last = key;
     // Fibonacci hashing: the product's top bits depend on every bit of the key (its low bits
     // would ignore x, and a ring's voxels would pile up in probe chains).
     std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits));
@@ -211,16 +250,14 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
   const double period = params.scan_period;
   if (view.time.present() && n > 0)
   {
-    // One read of each point's time (in grid order the records are scattered over the input).
     time_scratch_.resize(n);
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (std::size_t p = 0; p < n; ++p)
-    {
-      const double t = readScalar(view.record(grid.index[p]) + view.time.offset, view.time.type);
-      time_scratch_[p] = t;
-      lo = std::min(lo, t);
-      hi = std::max(hi, t);
-    }
+    if (view.time.type == ScalarType::Float32)
+      readTimes(view, grid, [](const std::uint8_t* r) { return load<float>(r); }, time_scratch_, lo, hi);
+    else if (view.time.type == ScalarType::Float64)
+      readTimes(view, grid, [](const std::uint8_t* r) { return load<double>(r); }, time_scratch_, lo, hi);
+    else
+      readTimes(view, grid, [&view](const std::uint8_t* r) { return readScalar(r, view.time.type); }, time_scratch_, lo, hi);
     // A constant field (KITTI's bags carry time = 0) says nothing: fall back to the azimuth.
     if (std::isfinite(lo) && std::isfinite(hi) && (hi - lo) * view.time_scale > 1e-7)
     {
@@ -244,7 +281,10 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
   for (std::size_t p = 0; p < n; ++p)
   {
     double turned = sign * (static_cast<double>(grid.azimuth[p]) - start);
-    turned -= two_pi * std::floor(turned / two_pi);
+    // (azimuths lie in one turn, so one wrap suffices: no std::floor call per point)
+    if (turned < 0.0) turned += two_pi;
+    if (turned >= two_pi) turned -= two_pi;
+    turned += 0.0;  // (the first point's -0 of a clockwise sweep is +0, as the time of a sweep's start)
     out.sweep_time[p] = static_cast<float>(std::min(turned / two_pi * period, period));
   }
 }

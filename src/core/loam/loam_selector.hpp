@@ -25,17 +25,12 @@ public:
               const Params& params, LoamFeatures& out);
 
 private:
-  struct Candidate
-  {
-    float score;
-    std::uint32_t pos;
-  };
   /// Excluded positions: the far side of depth jumps, surfaces along the beam (blocked_).
   void exclusions(const ScanGrid& grid, const Params& params);
-  /// Picks up to `quota` of `cand` in score order, skipping blocked ones; each pick blocks its
-  /// `suppression` linked neighbours on each side. Appends to `out` (and to `also` for the
-  /// first `also_quota`).
-  void pick(const ScanGrid& grid, const RingSpan& s, std::vector<Candidate>& cand, int quota, int suppression,
+  /// Picks up to `quota` of the candidates (keys in preference order) in that order, skipping
+  /// blocked ones; each pick blocks its `suppression` linked neighbours on each side. Appends to
+  /// `out` (and to `also` for the first `also_quota`).
+  void pick(const ScanGrid& grid, const RingSpan& s, std::vector<std::uint64_t>& cand, int quota, int suppression,
             std::vector<std::uint32_t>& out, std::vector<std::uint32_t>* also, int also_quota);
   void block(const ScanGrid& grid, const RingSpan& s, std::uint32_t k, int suppression);
   void lessFlat(const ScanGrid& grid, std::uint32_t b, std::uint32_t K, const std::vector<Label>& labels,
@@ -43,7 +38,7 @@ private:
   void sweepTimes(const PointCloudView& view, const ScanGrid& grid, const Params& params, LoamFeatures& out);
 
   std::vector<std::uint8_t> blocked_;
-  std::vector<Candidate> sharp_, flat_;
+  std::vector<std::uint64_t> sharp_, flat_;  // candidate keys of one sector
   std::vector<std::uint64_t> voxel_keys_;  // open-addressing set, one ring at a time
   std::vector<std::uint32_t> voxel_used_;
   std::vector<double> time_scratch_;
