@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The report's measuring tools: process_bag --times-csv (Figure 7) writes one consistent row per
-frame, and convergence_table (Figure 4) shows first order for the developed formula and a stall
-for the paper's z-plane formula on the tilted ground (what test_convergence.cpp asserts)."""
+frame, convergence_table (Figure 4) shows first order for the developed formula and a stall
+for the paper's z-plane formula on the tilted ground (what test_convergence.cpp asserts), and the
+SLAM benchmark's two ATE definitions behave as documented."""
+import importlib.machinery
 import os
 import sys
 import tempfile
@@ -16,7 +18,44 @@ from rc_eval.figures import STAGES, convergence_rows, read_times  # noqa: E402
 from rc_eval.runner import labelled_frames, run_method  # noqa: E402
 
 
+def slam_benchmark():
+    import importlib.util
+    path = os.path.join(ROOT, "tools", "slam_benchmark")
+    loader = importlib.machinery.SourceFileLoader("slam_benchmark", path)
+    module = importlib.util.module_from_spec(importlib.util.spec_from_loader("slam_benchmark", loader))
+    loader.exec_module(module)
+    return module
+
+
 class Tools(unittest.TestCase):
+    def test_slam_ate_definitions(self):
+        sb = slam_benchmark()
+        rng = np.random.default_rng(3)
+        n = 50
+        pos = np.cumsum(rng.normal(0.0, 0.5, (n, 3)), axis=0)
+        gt = np.hstack([np.arange(n)[:, None] * 0.1, pos, np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))])
+        c, s = np.cos(0.4), np.sin(0.4)
+        R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        yaw = [0.0, 0.0, np.sin(0.2), np.cos(0.2)]  # the same 0.4 rad about z, as x, y, z, w
+        # A rigidly moved copy: no error under either alignment.
+        est = {gt[i, 0]: (R @ pos[i] + [3.0, -1.0, 2.0], yaw) for i in range(n)}
+        ate, drift, m, ate_aligned = sb.trajectory_errors(gt, est)
+        self.assertEqual(m, n)
+        self.assertLess(ate, 1e-9)
+        self.assertLess(ate_aligned, 1e-9)
+        # An error in the first pose only: the first-pose ATE carries it through every frame, the
+        # best-fit alignment spreads it and is the smaller.
+        est = {gt[i, 0]: (pos[i] + (0.0 if i else 0.3), [0.0, 0.0, 0.0, 1.0]) for i in range(n)}
+        ate, _, _, ate_aligned = sb.trajectory_errors(gt, est)
+        self.assertAlmostEqual(ate, 0.3 * np.sqrt(3.0) * np.sqrt((n - 1) / n), places=6)  # all frames but the first
+        self.assertLess(ate_aligned, ate / 3)
+        # Noise: the best-fit ATE is the RMSE of the noise, within sampling error.
+        noise = rng.normal(0.0, 0.05, (n, 3))
+        est = {gt[i, 0]: (pos[i] + noise[i], [0.0, 0.0, 0.0, 1.0]) for i in range(n)}
+        _, _, _, ate_aligned = sb.trajectory_errors(gt, est)
+        self.assertLess(ate_aligned, np.sqrt(np.mean(np.sum(noise ** 2, axis=1))) + 1e-12)
+        self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
+
     def test_times_csv_has_one_row_per_frame_and_stages_sum_to_core(self):
         with tempfile.TemporaryDirectory() as d:
             out, csv = os.path.join(d, "l.bag"), os.path.join(d, "t.csv")
