@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "ring_curvature/loam_features.hpp"
 #include "ring_curvature/pipeline.hpp"
 #include "synthetic_scene.hpp"
 
@@ -97,6 +98,41 @@ TEST(PipelineAllocations, NoneAfterWarmUp)
       EXPECT_EQ(n, 0u) << "frame " << i << " (" << frames[i].view.size() << " points) allocated " << n
                        << " times after warm-up (pass " << pass << ")";
     }
+  }
+}
+
+TEST(PipelineAllocations, NoneForTheLoamSetsAfterWarmUp)
+{
+  // The SLAM front end's path: labels on the grid only, then the LOAM sets and the degeneracy
+  // report (the nodelet with only the ~loam/* outputs subscribed).
+  if (!rc::test::allocCountingAvailable())
+    GTEST_SKIP() << "malloc cannot be interposed in a sanitizer build";
+  const std::vector<SyntheticFrame> frames = makeFrames();
+  rc::Pipeline pipeline;
+  rc::FrameResult result;
+  rc::LoamFeatures loam;
+  const auto frame = [&](int i) {
+    ASSERT_TRUE(pipeline.process(frames[static_cast<std::size_t>(i)].view, result, rc::Pipeline::Scope::GridLabels).ok);
+    pipeline.selectLoamFeatures(frames[static_cast<std::size_t>(i)].view, loam);
+  };
+  for (std::size_t i = 0; i < frames.size(); ++i)
+  {
+    if (i == 0) rc::test::startCountingAllocations();
+    frame(static_cast<int>(i));
+    if (i == 0)
+    {
+      EXPECT_GT(rc::test::stopCountingAllocations(), 0u) << "the counter did not see the sets' buffers grow";
+    }
+    ASSERT_FALSE(loam.flat.empty()) << "frame " << i << ": no flat points chosen";
+    ASSERT_FALSE(loam.less_sharp.empty()) << "frame " << i << ": no less sharp points chosen";
+  }
+  const int order[] = {0, 1, 2, 1, 0, 0, 2, 2, 1, 3, 4, 3, 0, 4, 1, 3, 2, 4};
+  for (const int i : order)
+  {
+    rc::test::startCountingAllocations();
+    frame(i);
+    const std::size_t n = rc::test::stopCountingAllocations();
+    EXPECT_EQ(n, 0u) << "frame " << i << " allocated " << n << " times after warm-up";
   }
 }
 
