@@ -23,8 +23,13 @@ public:
   bool visit(const char* key, bool& v) override { return read(key, v, "true or false"); }
   bool visit(const char* key, std::string& v) override
   {
-    if (!pnh_.hasParam(key) || pnh_.getParam(key, v))
+    if (!pnh_.hasParam(key))
       return true;
+    if (pnh_.getParam(key, v))
+    {
+      unbracket(v);
+      return true;
+    }
     int k = 0;  // enums written back by dynamic_reconfigure as integers
     if (pnh_.getParam(key, k))
     {
@@ -44,6 +49,18 @@ public:
   }
 
 private:
+  /// rosrun's `_ring_field:=[ring,beam]` arrives as the string "[ring,beam]" (roscpp does not
+  /// parse command-line lists): it means the list, as the YAML list does.
+  static void unbracket(std::string& v)
+  {
+    if (v.size() < 2 || v.front() != '[' || v.back() != ']')
+      return;
+    std::string inner;
+    for (const char c : v.substr(1, v.size() - 2))
+      if (c != '\'' && c != '"')
+        inner += c;
+    v = inner;
+  }
   template <class T>
   bool read(const char* key, T& v, const char* what)
   {

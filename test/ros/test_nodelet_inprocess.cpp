@@ -16,6 +16,7 @@
 #include <set>
 #include <mutex>
 
+#include "ring_curvature/ros/param_loading.hpp"
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
 #include "cloud_builders.hpp"
 #include "output_checks.hpp"
@@ -478,6 +479,27 @@ TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)
   }
   EXPECT_FALSE(loaded);
   ros::param::del("/rc_bad");
+}
+
+TEST(NodeletInProcess, FieldListsAsYamlListsOrBracketedStrings)
+{
+  // A launch file's YAML list and rosrun's `_ring_field:=[beam,ring]` (which roscpp leaves a
+  // string) both mean the list "beam,ring".
+  XmlRpc::XmlRpcValue list;
+  list[0] = "beam";
+  list[1] = "ring";
+  ros::param::set("/rc_lists/ring_field", list);
+  ros::param::set("/rc_lists/time_field", std::string("['stamp', t]"));
+  ring_curvature::Params p;
+  ASSERT_TRUE(ring_curvature::loadParams(ros::NodeHandle("/rc_lists"), p).ok);
+  EXPECT_EQ(p.ring_field, "beam,ring");
+  EXPECT_EQ(p.time_field, "stamp, t");
+  ros::param::set("/rc_lists/ring_field", std::string("[beam,ring]"));
+  ASSERT_TRUE(ring_curvature::loadParams(ros::NodeHandle("/rc_lists"), p).ok);
+  EXPECT_EQ(p.ring_field, "beam,ring");
+  ros::param::set("/rc_lists/ring_field", std::string("[]"));
+  EXPECT_FALSE(ring_curvature::loadParams(ros::NodeHandle("/rc_lists"), p).ok) << "an empty list names no field";
+  ros::param::del("/rc_lists");
 }
 
 int main(int argc, char** argv)
