@@ -24,6 +24,28 @@ def azimuth_diff(a, b):
     return np.abs((a - b + 180.0) % 360.0 - 180.0)
 
 
+class SequencePaths(unittest.TestCase):
+    """The SLAM sequences' paths: at speed from the first frame, or from rest (street-hdl64-start),
+    and ground truth that follows the path's arc length."""
+
+    def test_from_rest_then_at_speed(self):
+        from rc_eval.sequence import PRESETS, ground_truth_tum, make_path
+        kind, _, speed, frames, accel = PRESETS["street-hdl64-start"]
+        period = 0.1
+        path = make_path(kind, speed, frames * period + 0.2, accel)
+        t = np.array([0.0, 1.0, speed / accel, 5.0])
+        np.testing.assert_allclose(path.distance(t), [0.0, 0.5 * accel, 0.5 * speed * speed / accel,
+                                                     0.5 * speed * speed / accel + speed * (5.0 - speed / accel)])
+        gt = np.array([list(map(float, line.split())) for line in
+                       ground_truth_tum(path, frames, period, [k * period for k in range(frames)])])
+        steps = np.linalg.norm(np.diff(gt[:, 1:3], axis=0), axis=1)
+        self.assertLess(steps[0], 0.05)  # 1.5 cm in the first 0.1 s at 3 m/s^2
+        self.assertGreater(steps[1], steps[0])
+        np.testing.assert_allclose(steps[30:60], speed * period, rtol=0.02)  # at speed, straight on
+        at_speed = make_path(kind, speed, frames * period + 0.2)
+        np.testing.assert_allclose(at_speed.distance(t), speed * t)
+
+
 class GroundTruthGeometry(unittest.TestCase):
     """A tall box turned 45 deg in front of a wall: the ring crosses one vertical fold (the
     box's front edge, azimuth 0) and two silhouettes (its side edges); nothing else."""

@@ -21,11 +21,13 @@ from .raycast import Box, Cylinder, Ellipsoid, Ground, cast, rot_z
 from .sensors import Sensor, make_sensor
 
 PRESETS = {
-    # name: (scene kind, sensor, speed m/s, frames)
+    # name: (scene kind, sensor, speed m/s, frames[, acceleration m/s^2 from rest; none: at speed])
     "street-vlp16": ("street", "vlp16", 6.0, 120),
     "yard-vlp16": ("yard", "vlp16", 1.4, 120),
     "street-hdl64": ("street", "hdl64e", 6.0, 120),
     "yard-hdl64": ("yard", "hdl64e", 1.4, 120),
+    # the HDL-64E street from rest, 6 m/s after 2 s (a car pulling away)
+    "street-hdl64-start": ("street", "hdl64e", 6.0, 120, 3.0),
 }
 
 
@@ -56,9 +58,10 @@ class Path:
     wobble: float      # roll / pitch amplitude [rad]
     bounce: float      # height oscillation [m]
     bounce_hz: float
+    accel: float = 0.0  # from rest at this acceleration up to `speed`; 0: at speed from t = 0
 
     @staticmethod
-    def build(segments, speed, wobble, bounce, bounce_hz, step=0.02):
+    def build(segments, speed, wobble, bounce, bounce_hz, step=0.02, accel=0.0):
         """segments: [("line", length) | ("arc", radius, angle_rad (+ = left))]."""
         x, y, h, s = 0.0, 0.0, 0.0, 0.0
         S, XY, H = [0.0], [(0.0, 0.0)], [0.0]
@@ -80,13 +83,21 @@ class Path:
                     chord = 2 * r * np.sin(abs(dh) / 2)
                     x, y, h, s = x + chord * np.cos(hm), y + chord * np.sin(hm), h + dh, s + ds
                     S.append(s); XY.append((x, y)); H.append(h)
-        return Path(np.array(S), np.array(XY), np.unwrap(np.array(H)), speed, wobble, bounce, bounce_hz)
+        return Path(np.array(S), np.array(XY), np.unwrap(np.array(H)), speed, wobble, bounce, bounce_hz, accel)
+
+    def distance(self, t):
+        """Arc length covered at times t [s]."""
+        t = np.asarray(t, float)
+        if self.accel <= 0:
+            return self.speed * t
+        ta = self.speed / self.accel
+        return np.where(t < ta, 0.5 * self.accel * t * t, 0.5 * self.speed * ta + self.speed * (t - ta))
 
     def pose(self, t):
         """Rotation (..., 3, 3) and position (..., 3) of the sensor at times t [s] (frame 0 at t=0),
         in the scene frame (the path starts at the origin heading +x)."""
         t = np.asarray(t, float)
-        s = np.clip(self.speed * t, 0, self.s[-1])
+        s = np.clip(self.distance(t), 0, self.s[-1])
         x = np.interp(s, self.s, self.xy[:, 0])
         y = np.interp(s, self.s, self.xy[:, 1])
         yaw = np.interp(s, self.s, self.yaw)
@@ -114,17 +125,17 @@ def _rpy(roll, pitch, yaw):
     return R
 
 
-def make_path(kind, speed, duration):
+def make_path(kind, speed, duration, accel=0.0):
     if kind == "street":
         # 30 m straight, a right turn (radius 12 m), then straight on: a car at `speed`
         segs = [("line", 30.0), ("arc", 12.0, -np.pi / 2), ("line", 60.0)]
-        p = Path.build(segs, speed, np.radians(0.4), 0.01, 1.5)
+        p = Path.build(segs, speed, np.radians(0.4), 0.01, 1.5, accel=accel)
     else:
         # a walk around a courtyard: left turns of radius 2 m (handheld / backpack sensor)
         segs = [("line", 5.0), ("arc", 2.0, np.pi / 2), ("line", 4.0), ("arc", 2.0, np.pi / 2),
                 ("line", 4.0), ("arc", 2.0, np.pi / 2), ("line", 10.0)]
-        p = Path.build(segs, speed, np.radians(1.5), 0.03, 1.8)
-    assert p.s[-1] >= speed * duration, "path shorter than the sequence"
+        p = Path.build(segs, speed, np.radians(1.5), 0.03, 1.8, accel=accel)
+    assert p.s[-1] >= p.distance(duration), "path shorter than the sequence"
     return p
 
 
@@ -333,11 +344,12 @@ def generate(name, bag_path, tum_path, seed=1, frames=None, noise=0.01, height=1
 
     from .cloud_io import make_cloud
 
-    kind, sensor_name, speed, n_default = PRESETS[name]
+    kind, sensor_name, speed, n_default = PRESETS[name][:4]
+    accel = PRESETS[name][4] if len(PRESETS[name]) > 4 else 0.0
     frames = frames or n_default
     sensor = sensor_for(sensor_name)
     period = 60.0 / sensor.rpm
-    path = make_path(kind, speed, frames * period + 0.2)
+    path = make_path(kind, speed, frames * period + 0.2, accel)
     shapes = sequence_scene(kind, path, seed, height)
     layout = [("x", 0, "<f4"), ("y", 4, "<f4"), ("z", 8, "<f4"), ("intensity", 12, "<f4"),
               ("ring", 16, "<u2"), ("time", 18, "<f4")]
@@ -364,4 +376,4 @@ def generate(name, bag_path, tum_path, seed=1, frames=None, noise=0.01, height=1
     import os
     os.replace(tmp, bag_path)
     return {"name": name, "sensor": sensor.name, "scene": kind, "speed": speed, "frames": frames,
-            "shapes": len(shapes), "path_length": speed * (frames - 1) * period}
+            "shapes": len(shapes), "path_length": float(path.distance((frames - 1) * period))}
