@@ -15,8 +15,8 @@ PRIMITIVES_TOPIC = "/ring_curvature/primitives"
 
 def tool_command(name):
     """How to start one of the package's C++ tools: RC_BIN_DIR/<name> when set, else the first
-    <prefix>/lib/ring_curvature/<name> on CMAKE_PREFIX_PATH (set by devel/setup.bash), else
-    rosrun. Not rosrun first: with catkin workspaces inside the package folder, rosrun finds
+    <prefix>/lib/ring_curvature/<name> on CMAKE_PREFIX_PATH (set by devel/setup.bash), else the
+    one scripts/build made (RC_WS or <repo>/.catkin_ws), else rosrun. Not rosrun first: with catkin workspaces inside the package folder, rosrun finds
     the tool once per workspace and stops to ask which one to run."""
     bin_dir = os.environ.get("RC_BIN_DIR")
     if bin_dir:
@@ -25,8 +25,14 @@ def tool_command(name):
         path = os.path.join(prefix, "lib", "ring_curvature", name)
         if prefix and os.access(path, os.X_OK):
             return [path]
+    # Not sourced: the workspace scripts/build makes (RC_WS, default <repo>/.catkin_ws).
+    repo = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", ".."))
+    ws = os.environ.get("RC_WS", os.path.join(repo, ".catkin_ws"))
+    path = os.path.join(ws, "devel", "lib", "ring_curvature", name)
+    if os.access(path, os.X_OK):
+        return [path]
     if shutil.which("rosrun") is None:
-        raise RuntimeError("%s not found: source the workspace (devel/setup.bash) first" % name)
+        raise RuntimeError("%s not found: build with scripts/build, or source the workspace (devel/setup.bash)" % name)
     return ["rosrun", "ring_curvature", name]
 
 
