@@ -13,6 +13,12 @@ LABELLED_TOPIC = "/ring_curvature/labelled_points"
 PRIMITIVES_TOPIC = "/ring_curvature/primitives"
 
 
+def workspace_dir():
+    """The catkin workspace scripts/build makes: RC_WS, default <repo>/.catkin_ws."""
+    repo = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", ".."))
+    return os.environ.get("RC_WS") or os.path.join(repo, ".catkin_ws")
+
+
 def tool_command(name):
     """How to start one of the package's C++ tools: RC_BIN_DIR/<name> when set, else the first
     <prefix>/lib/ring_curvature/<name> on CMAKE_PREFIX_PATH (set by devel/setup.bash), else the
@@ -25,10 +31,7 @@ def tool_command(name):
         path = os.path.join(prefix, "lib", "ring_curvature", name)
         if prefix and os.access(path, os.X_OK):
             return [path]
-    # Not sourced: the workspace scripts/build makes (RC_WS, default <repo>/.catkin_ws).
-    repo = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", ".."))
-    ws = os.environ.get("RC_WS", os.path.join(repo, ".catkin_ws"))
-    path = os.path.join(ws, "devel", "lib", "ring_curvature", name)
+    path = os.path.join(workspace_dir(), "devel", "lib", "ring_curvature", name)  # not sourced
     if os.access(path, os.X_OK):
         return [path]
     if shutil.which("rosrun") is None:
