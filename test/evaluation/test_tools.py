@@ -4,6 +4,7 @@ frame, convergence_table (Figure 4) shows first order for the developed formula 
 for the paper's z-plane formula on the tilted ground (what test_convergence.cpp asserts), and the
 SLAM benchmark's two ATE definitions behave as documented."""
 import importlib.machinery
+import importlib.util
 import os
 import sys
 import tempfile
@@ -19,7 +20,6 @@ from rc_eval.runner import labelled_frames, run_method  # noqa: E402
 
 
 def slam_benchmark():
-    import importlib.util
     path = os.path.join(ROOT, "tools", "slam_benchmark")
     loader = importlib.machinery.SourceFileLoader("slam_benchmark", path)
     module = importlib.util.module_from_spec(importlib.util.spec_from_loader("slam_benchmark", loader))

@@ -22,8 +22,9 @@ def workspace_dir():
 def tool_command(name):
     """How to start one of the package's C++ tools: RC_BIN_DIR/<name> when set, else the first
     <prefix>/lib/ring_curvature/<name> on CMAKE_PREFIX_PATH (set by devel/setup.bash), else the
-    one scripts/build made (RC_WS or <repo>/.catkin_ws), else rosrun. Not rosrun first: with catkin workspaces inside the package folder, rosrun finds
-    the tool once per workspace and stops to ask which one to run."""
+    one scripts/build made (RC_WS or <repo>/.catkin_ws), else rosrun. Not rosrun first: with
+    catkin workspaces inside the package folder, rosrun finds the tool once per workspace and
+    stops to ask which one to run."""
     bin_dir = os.environ.get("RC_BIN_DIR")
     if bin_dir:
         return [os.path.join(bin_dir, name)]
