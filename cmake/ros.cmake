@@ -6,6 +6,7 @@ set(RC_ROS_SOURCES
   src/ros/outputs.cpp
   src/ros/loam_outputs.cpp
   src/ros/odometry_motion.cpp
+  src/ros/lidar_mounting.cpp
   src/ros/primitive_message.cpp
   src/ros/param_table.cpp
   src/ros/param_server.cpp

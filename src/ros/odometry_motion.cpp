@@ -13,6 +13,9 @@ void OdometryMotion::add(const nav_msgs::Odometry& odom)
   const Eigen::Quaterniond q(o.w, o.x, o.y, o.z);
   if (!std::isfinite(q.norm()) || q.norm() < 0.5 || !std::isfinite(t.x + t.y + t.z)) return;  // not a pose
   std::lock_guard<std::mutex> lock(mutex_);
+  const std::string& child = odom.child_frame_id;
+  const std::size_t slash = !child.empty() && child[0] == '/' ? 1 : 0;
+  if (child.compare(slash, std::string::npos, child_frame_) != 0) child_frame_.assign(child, slash, std::string::npos);
   // the same stamp again: a refined pose of that frame; time going back (a bag played again, a
   // restarted back end): the history is another run's
   const Pose pose{odom.header.stamp, q.normalized(), Eigen::Vector3d(t.x, t.y, t.z)};
@@ -28,8 +31,14 @@ void OdometryMotion::add(const nav_msgs::Odometry& odom)
   poses_[(head_ + count_ - 1) % kHistory] = pose;
 }
 
+std::string OdometryMotion::childFrame() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return child_frame_;
+}
+
 bool OdometryMotion::motionFor(const ros::Time& stamp, double period, double window, double max_age,
-                               SweepMotion& motion) const
+                               SweepMotion& motion, const Eigen::Isometry3d* lidar_in_child) const
 {
   std::lock_guard<std::mutex> lock(mutex_);
   if (count_ < 2) return false;
@@ -41,8 +50,16 @@ bool OdometryMotion::motionFor(const ros::Time& stamp, double period, double win
   const double dt = (newer.stamp - older.stamp).toSec();
   if (dt <= 0.0 || dt > std::max(window, max_age)) return false;
   // the newer pose in the older one's frame: the motion over dt in the sensor's own frame
-  const Eigen::Quaterniond dq = older.q.conjugate() * newer.q;
-  const Eigen::Vector3d dp = older.q.conjugate() * (newer.p - older.p);
+  Eigen::Quaterniond dq = older.q.conjugate() * newer.q;
+  Eigen::Vector3d dp = older.q.conjugate() * (newer.p - older.p);
+  if (lidar_in_child)
+  {
+    // the LiDAR's own motion: E^-1 * (dq, dp) * E, with E its pose in the child frame
+    const Eigen::Quaterniond e(lidar_in_child->rotation());
+    const Eigen::Vector3d te = lidar_in_child->translation();
+    dp = e.conjugate() * (dq * te + dp - te);
+    dq = e.conjugate() * dq * e;
+  }
   const Eigen::AngleAxisd aa(dq);
   const double scale = period / dt;
   const Eigen::Vector3d w = aa.axis() * (aa.angle() * scale), v = dp * scale;

@@ -84,7 +84,9 @@ void RingCurvatureNodelet::onInit()
     // always subscribed: a few poses a second, and the history must be there when clouds come
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(odometry_topic, 10,
                                                  [this](const nav_msgs::OdometryConstPtr& o) { odometry_.add(*o); });
-    NODELET_INFO("LOAM clouds deskewed with the motion on %s", nh.resolveName(odometry_topic).c_str());
+    if (pnh.param("deskew_use_tf", false)) mounting_ = std::make_unique<LidarMounting>(nh);
+    NODELET_INFO("LOAM clouds deskewed with the motion on %s%s", nh.resolveName(odometry_topic).c_str(),
+                 mounting_ ? ", moved to the cloud's frame with tf" : " (its child frame taken as the LiDAR's)");
   }
 
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<RingCurvatureConfig>>(reconfigure_mutex_, pnh);
@@ -179,8 +181,7 @@ void RingCurvatureNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg)
       stats_.last_seq = seq;
       stats_.last_input_msg = msg.get();
       SweepMotion motion;
-      const bool deskew = odom_sub_ && odometry_.motionFor(msg->header.stamp, processor_->params().scan_period,
-                                                           deskew_window_, deskew_max_age_, motion);
+      const bool deskew = odom_sub_ && deskewMotion(msg->header, motion);
       processor_->setSweepMotion(deskew ? &motion : nullptr);
       s = processor_->process(msg, out, select);
       if (s)
@@ -259,6 +260,20 @@ void RingCurvatureNodelet::publishStats(const std_msgs::Header& header, std::chr
   st->callback_ms = static_cast<float>(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_entry).count());
   pub_stats_.publish(st);
+}
+
+bool RingCurvatureNodelet::deskewMotion(const std_msgs::Header& header, SweepMotion& motion)
+{
+  Eigen::Isometry3d lidar_in_child;
+  if (mounting_ && !mounting_->lidarInChild(odometry_.childFrame(), header.frame_id, lidar_in_child, deskew_issue_))
+  {
+    // a base's motion is not the LiDAR's: rather no deskew than a wrong one
+    NODELET_WARN_THROTTLE(5.0, "LOAM clouds not deskewed: %s", deskew_issue_.c_str());
+    return false;
+  }
+  deskew_issue_.clear();
+  return odometry_.motionFor(header.stamp, processor_->params().scan_period, deskew_window_, deskew_max_age_, motion,
+                             mounting_ ? &lidar_in_child : nullptr);
 }
 
 void RingCurvatureNodelet::publishOutputs(Outputs& out)
@@ -341,6 +356,7 @@ void RingCurvatureNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper&
   }
   stat.add("LOAM frames degenerate", degenerate_frames_);
   if (odom_sub_) stat.add("LOAM frames deskewed", deskewed_frames_);
+  if (!deskew_issue_.empty()) stat.add("LOAM deskew", deskew_issue_);
   for (int l = 0; l < kNumLabels; ++l)
     stat.add(std::string("points labelled ") + labelName(static_cast<Label>(l)), label_totals_[l]);
 }

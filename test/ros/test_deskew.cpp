@@ -134,6 +134,53 @@ TEST(OdometryMotion, TimeGoingBackStartsAgainAndBadPosesAreIgnored)
   EXPECT_NEAR(0.2, s.translation[0], 1e-9);
 }
 
+// An odometry of the frame the LiDAR is mounted on (a base): the LiDAR's own motion is the base's
+// seen from the mounting, the same as an odometry of the LiDAR itself would give.
+TEST(OdometryMotion, BaseMotionMovedToTheLidarByItsMounting)
+{
+  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();  // the LiDAR in the base frame
+  mount.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  mount.translation() = Eigen::Vector3d(1.2, 0.3, 1.8);
+  OdometryMotion base, lidar;
+  for (int k = 0; k <= 10; ++k)
+  {
+    nav_msgs::Odometry o = poseAt(0.1 * k, 6.0, 0.5);
+    o.child_frame_id = "/base_link";
+    base.add(o);
+    const auto& q = o.pose.pose.orientation;
+    const auto& t = o.pose.pose.position;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(t.x, t.y, t.z);
+    const Eigen::Isometry3d at = pose * mount;
+    const Eigen::Quaterniond aq(at.rotation());
+    o.pose.pose.orientation.w = aq.w();
+    o.pose.pose.orientation.x = aq.x();
+    o.pose.pose.orientation.y = aq.y();
+    o.pose.pose.orientation.z = aq.z();
+    o.pose.pose.position.x = at.translation().x();
+    o.pose.pose.position.y = at.translation().y();
+    o.pose.pose.position.z = at.translation().z();
+    lidar.add(o);
+  }
+  EXPECT_EQ("base_link", base.childFrame());
+  SweepMotion from_base, own, unmounted;
+  ASSERT_TRUE(base.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, from_base, &mount));
+  ASSERT_TRUE(lidar.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, own));
+  ASSERT_TRUE(base.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, unmounted));
+  for (std::size_t i = 0; i < 3; ++i)
+  {
+    EXPECT_NEAR(own.rotation[i], from_base.rotation[i], 1e-9) << i;
+    EXPECT_NEAR(own.translation[i], from_base.translation[i], 1e-9) << i;
+  }
+  // turned by 90 degrees, the base's forward motion is the LiDAR's -y (less the 1.5 cm the turn
+  // swings the LiDAR's 0.3 m offset back); the turn swings the LiDAR, 1.2 m ahead of the base's
+  // origin, 6 cm sideways: its +x
+  EXPECT_NEAR(-unmounted.translation[0], from_base.translation[1], 0.03);
+  EXPECT_GT(from_base.translation[0] - unmounted.translation[1], 0.05);
+  EXPECT_NEAR(unmounted.rotation[2], from_base.rotation[2], 1e-9);
+}
+
 // Velodyne's times run up to the stamp (-0.1 .. 0), Ouster's from it (0 .. 0.1): either way the
 // points fired at the stamp stay, the others move by the motion between their time and it.
 TEST(FrameProcessorDeskew, PointsReferToTheStampWhateverTheTimeConvention)

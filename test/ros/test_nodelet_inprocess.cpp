@@ -6,6 +6,7 @@
 #include <nav_msgs/Odometry.h>
 #include <nodelet/loader.h>
 #include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <boost/make_shared.hpp>
@@ -462,6 +463,93 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
   EXPECT_FALSE(stats->deskewed);
   ASSERT_EQ(got[0]->width, got[1]->width);
   EXPECT_EQ(0, std::memcmp(got[0]->data.data(), got[1]->data.data(), got[0]->data.size()));
+}
+
+// Deskew with the odometry of a base (~deskew_use_tf): no deskew until tf has the LiDAR's
+// mounting, then the base's forward motion moves the points along the LiDAR's own axis (-y: it is
+// mounted turned by 90 degrees).
+TEST(NodeletInProcess, LoamCloudsDeskewedWithBaseOdometryThroughTf)
+{
+  Manager m;
+  ros::NodeHandle nh;
+  nh.setParam("/rc_base/deskew_odometry", "/odom_base");
+  nh.setParam("/rc_base/deskew_use_tf", true);
+  auto deskewed = m.load("/rc_base", "/input_base");
+  auto plain = m.load("/rc_base_plain", "/input_base");
+  ASSERT_TRUE(deskewed && plain);
+  ros::Publisher pub = nh.advertise<PointCloud2>("/input_base", 2);
+  ros::Publisher odom = nh.advertise<nav_msgs::Odometry>("/odom_base", 10, true);
+  std::mutex mutex;
+  PointCloud2::ConstPtr got[2];
+  ring_curvature::FrameStats::ConstPtr stats;
+  std::vector<ros::Subscriber> subs;
+  for (int i = 0; i < 2; ++i)
+    subs.push_back(nh.subscribe<PointCloud2>(i == 0 ? "/rc_base/loam/cloud" : "/rc_base_plain/loam/cloud", 10,
+                                             [&, i](const PointCloud2::ConstPtr& c) {
+                                               std::lock_guard<std::mutex> l(mutex);
+                                               got[i] = c;
+                                             }));
+  subs.push_back(nh.subscribe<ring_curvature::FrameStats>("/rc_base/frame_stats", 10,
+                                                          [&](const ring_curvature::FrameStats::ConstPtr& st) {
+                                                            std::lock_guard<std::mutex> l(mutex);
+                                                            stats = st;
+                                                          }));
+  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0 && odom.getNumSubscribers() > 0; }));
+  const ros::Time stamp = frames()[0]->header.stamp;
+  for (int k = 2; k >= 1; --k)
+  {
+    nav_msgs::Odometry o;
+    o.header.stamp = stamp - ros::Duration(0.1 * k);
+    o.child_frame_id = "base_link";
+    o.pose.pose.orientation.w = 1.0;
+    o.pose.pose.position.x = 6.0 * (o.header.stamp - stamp).toSec();
+    odom.publish(o);
+    ros::WallDuration(0.05).sleep();
+  }
+  const auto publishAndWait = [&] {
+    {
+      std::lock_guard<std::mutex> l(mutex);
+      got[0] = got[1] = nullptr;
+      stats = nullptr;
+    }
+    pub.publish(copyOf(*frames()[0]));
+    return waitUntil([&] {
+      std::lock_guard<std::mutex> l(mutex);
+      return got[0] && got[1] && stats;
+    });
+  };
+  ASSERT_TRUE(publishAndWait());
+  {
+    std::lock_guard<std::mutex> l(mutex);
+    EXPECT_FALSE(stats->deskewed) << "deskewed without the mounting";
+    EXPECT_EQ(got[0]->data, got[1]->data);
+  }
+  tf2_ros::StaticTransformBroadcaster broadcaster;
+  geometry_msgs::TransformStamped mount;
+  mount.header.frame_id = "base_link";
+  mount.child_frame_id = frames()[0]->header.frame_id;
+  mount.transform.translation.x = 1.2;
+  mount.transform.translation.z = 1.8;
+  mount.transform.rotation.z = std::sin(M_PI / 4);
+  mount.transform.rotation.w = std::cos(M_PI / 4);
+  broadcaster.sendTransform(mount);
+  ASSERT_TRUE(waitUntil([&] {
+    if (!publishAndWait()) return false;
+    std::lock_guard<std::mutex> l(mutex);
+    return static_cast<bool>(stats->deskewed);
+  })) << "the mounting never taken from tf";
+  std::lock_guard<std::mutex> l(mutex);
+  ASSERT_EQ(got[0]->width, got[1]->width);
+  for (std::uint32_t k = 0; k < got[0]->width; ++k)
+  {
+    float a[5], b[5];
+    std::memcpy(a, &got[0]->data[k * 32u], 20);
+    std::memcpy(b, &got[1]->data[k * 32u], 20);
+    const float t = a[4] - std::floor(a[4]);
+    EXPECT_NEAR(a[0] - b[0], 0.0f, 1e-3f) << "at " << k;
+    EXPECT_NEAR(a[1] - b[1], -6.0f * t, 2e-3f) << "at " << k;
+    EXPECT_NEAR(a[2] - b[2], 0.0f, 1e-3f) << "at " << k;
+  }
 }
 
 TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)

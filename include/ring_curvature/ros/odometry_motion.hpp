@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <mutex>
+#include <string>
 
 #include "ring_curvature/sweep_deskew.hpp"
 
@@ -20,12 +21,16 @@ namespace ring_curvature
 class OdometryMotion
 {
 public:
-  /// A pose of the LiDAR (the odometry's child frame must be the LiDAR's) in a fixed frame.
+  /// A pose of the odometry's child frame (the LiDAR's, or one it is mounted on) in a fixed frame.
   void add(const nav_msgs::Odometry& odom);
   /// The mean motion over one sweep of `period` s, from the newest pose and the oldest one at most
   /// `window` s before it; false (no deskew) before two poses or when the newest is more than
-  /// `max_age` s from `stamp`.
-  bool motionFor(const ros::Time& stamp, double period, double window, double max_age, SweepMotion& motion) const;
+  /// `max_age` s from `stamp`. `lidar_in_child`: the LiDAR's pose in the child frame (its
+  /// mounting); null when the child frame is the LiDAR's.
+  bool motionFor(const ros::Time& stamp, double period, double window, double max_age, SweepMotion& motion,
+                 const Eigen::Isometry3d* lidar_in_child = nullptr) const;
+  /// The child frame of the newest pose, without a leading '/' (empty before any).
+  std::string childFrame() const;
 
 private:
   struct Pose
@@ -38,6 +43,7 @@ private:
   static constexpr std::size_t kHistory = 64;  // poses kept (6 s at 10 Hz)
   std::array<Pose, kHistory> poses_;            // a ring: newest at (head_ + count_ - 1) % kHistory
   std::size_t head_ = 0, count_ = 0;
+  std::string child_frame_;
 };
 
 }  // namespace ring_curvature

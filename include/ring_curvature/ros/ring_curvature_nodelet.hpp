@@ -19,6 +19,7 @@
 #include "ring_curvature/PrimitiveArray.h"
 #include "ring_curvature/RingCurvatureConfig.h"
 #include "ring_curvature/ros/frame_processor.hpp"
+#include "ring_curvature/ros/lidar_mounting.hpp"
 #include "ring_curvature/ros/odometry_motion.hpp"
 
 namespace ring_curvature
@@ -61,6 +62,8 @@ private:
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void publishStats(const std_msgs::Header& header, std::chrono::steady_clock::time_point t_entry);
   void publishOutputs(Outputs& out);
+  /// The sweep's motion for the cloud with this header (false: not deskewed).
+  bool deskewMotion(const std_msgs::Header& header, SweepMotion& motion);
 
   // Held across advertise() so connectCb never sees half-made publishers.
   std::mutex connect_mutex_;
@@ -77,6 +80,8 @@ private:
   double deskew_max_age_ = 0.5;  // ~deskew_max_age [s]
   double deskew_window_ = 0.5;   // ~deskew_window [s]
   std::size_t deskewed_frames_ = 0;
+  std::unique_ptr<LidarMounting> mounting_;  // ~deskew_use_tf: the odometry's child frame is not the LiDAR's
+  std::string deskew_issue_;                 // why the last frame was not deskewed (tf), for diagnostics
 
   // Guards processor_ (its parameters change from the reconfigure callback) and stats_.
   mutable std::mutex process_mutex_;
