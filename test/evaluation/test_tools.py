@@ -56,6 +56,27 @@ class Tools(unittest.TestCase):
         self.assertLess(ate_aligned, np.sqrt(np.mean(np.sum(noise ** 2, axis=1))) + 1e-12)
         self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
 
+    def test_label_cues_auc_and_bound(self):
+        from rc_eval.label_cues import auc, fit_logistic, grid_links
+        self.assertEqual(auc(np.array([2.0, 3.0]), np.array([0.0, 1.0])), 1.0)
+        self.assertEqual(auc(np.array([0.0]), np.array([1.0])), 0.0)
+        self.assertEqual(auc(np.array([1.0, 1.0]), np.array([1.0])), 0.5)  # ties count half
+        rng = np.random.default_rng(1)
+        X = rng.normal(0.0, 1.0, (2000, 2))
+        y = (X[:, 0] - 0.5 * X[:, 1] > 0).astype(float)  # separable by a line
+        p = fit_logistic(X, y)(X)
+        self.assertGreater(np.mean((p > 0.5) == (y > 0.5)), 0.97)
+        # two rings of four points: neighbours by azimuth, the ring above and below by azimuth
+        az = np.tile([0.0, 0.5, 1.0, 1.5], 2)
+        a = np.zeros(8, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("ring", "u2")])
+        a["x"], a["y"], a["ring"] = np.cos(az), np.sin(az), np.repeat([0, 1], 4)
+        prev, nxt, up, down = grid_links(a)
+        self.assertEqual(list(nxt[:4]), [1, 2, 3, -1])
+        self.assertEqual(list(prev[4:]), [-1, 4, 5, 6])
+        self.assertEqual(list(up[:4]), [4, 5, 6, 7])
+        self.assertEqual(list(down[4:]), [0, 1, 2, 3])
+        self.assertEqual(list(down[:4]), [-1] * 4)
+
     def test_times_csv_has_one_row_per_frame_and_stages_sum_to_core(self):
         with tempfile.TemporaryDirectory() as d:
             out, csv = os.path.join(d, "l.bag"), os.path.join(d, "t.csv")

@@ -1,0 +1,188 @@
+"""How far local geometric cues can take the Plane/Rough split on real annotated scans (issue 29's
+two purity rows), beyond the defaults' labels.
+
+For every point the defaults label Plane or Rough, a set of cues is computed from the labelled
+cloud alone (its ring field and coordinates give the scan grid: ring neighbours by azimuth, the
+nearest sample on the ring above and below). Printed:
+  1. each cue's separation of vegetation from building among the points the defaults call Plane
+     (what Plane purity needs) and among those they call Rough (what Rough purity needs), as the
+     AUC (0.5: no signal; 1 or 0: perfect);
+  2. a bound: a logistic regression over all cues at once, trained on the other frames and applied
+     to each frame in turn, relabels the Plane and Rough points; the issue's rows for several
+     probability thresholds. If no threshold meets both purities at building -> Plane >= 0.90,
+     a hand rule on these cues will not either (the frames are consecutive, so the bound is, if
+     anything, optimistic).
+
+  rosrun ring_curvature label_cues [--data DIR]
+"""
+import argparse
+import os
+import tempfile
+
+import numpy as np
+
+from . import real_labels as rl
+from .runner import labelled_frames, run_method
+
+WINDOW = 4  # samples each way along the ring; plus the same on the rings above and below
+POSITIVE = (70, 71)  # vegetation, trunk: should be Rough
+NEGATIVE = rl.GROUND + rl.BUILDING  # should be Plane
+
+
+def grid_links(a):
+    """(prev, next, up, down) indices per point, -1 for none: neighbours along the ring in azimuth
+    order, and the nearest azimuth on the ring numbered one higher / lower (within 0.01 rad)."""
+    n = len(a)
+    ring = a["ring"].astype(np.int64)
+    ok = np.isfinite(a["x"]) & np.isfinite(a["y"]) & np.isfinite(a["z"])
+    az = np.arctan2(a["y"].astype(np.float64), a["x"].astype(np.float64))
+    links = [-np.ones(n, np.int64) for _ in range(4)]
+    rings = {}
+    for r in np.unique(ring[ok]):
+        idx = np.flatnonzero(ok & (ring == r))
+        idx = idx[np.argsort(az[idx], kind="stable")]
+        rings[r] = (idx, az[idx])
+        links[0][idx[1:]], links[1][idx[:-1]] = idx[:-1], idx[1:]
+    for r, (idx, a_r) in rings.items():
+        for step, out in ((1, links[2]), (-1, links[3])):
+            if r + step not in rings:
+                continue
+            j, a_j = rings[r + step]
+            k = np.searchsorted(a_j, a_r)
+            lo, hi = np.clip(k - 1, 0, len(a_j) - 1), np.clip(k, 0, len(a_j) - 1)
+            pick = np.where(np.abs(a_j[lo] - a_r) < np.abs(a_j[hi] - a_r), lo, hi)
+            near = np.abs(a_j[pick] - a_r) < 0.01
+            out[idx[near]] = j[pick[near]]
+    return links
+
+
+def window(links):
+    """(n, 27) indices: WINDOW samples each way along the ring, on the point's ring and the rings
+    above and below (a missing neighbour repeats the last one found)."""
+    prev, nxt, up, down = links
+    n = len(prev)
+    here = np.arange(n)
+    cols = [here]
+    for nb in (prev, nxt):
+        cur = here
+        for _ in range(WINDOW):
+            cur = np.where(nb[cur] >= 0, nb[cur], cur)
+            cols.append(cur)
+    rows = list(cols)
+    for nb in (up, down):
+        rows += [np.where(nb[c] >= 0, nb[c], c) for c in cols]
+    return np.stack(rows, axis=1)
+
+
+def cues(a):
+    """{name: per-point value} from one labelled cloud."""
+    links = grid_links(a)
+    prev, nxt, up, down = links
+    n = len(a)
+    here = np.arange(n)
+    xyz = np.stack([a["x"], a["y"], a["z"]], axis=1).astype(np.float64)
+    rho = np.linalg.norm(xyz, axis=1)
+
+    def second_difference(p, q):
+        p, q = np.where(p >= 0, p, here), np.where(q >= 0, q, here)
+        return np.abs(rho[p] + rho[q] - 2 * rho) / rho
+
+    W = window(links)
+    along, across = second_difference(prev, nxt)[W], second_difference(up, down)[W]
+    log = lambda v: np.log(np.maximum(v, 1e-12))  # noqa: E731
+    steep = np.zeros(n, bool)
+    for nb in (up, down):
+        d = xyz[np.where(nb >= 0, nb, here)] - xyz
+        steep |= (nb >= 0) & (np.abs(d[:, 2]) > np.hypot(d[:, 0], d[:, 1]))
+    return {
+        "smoothness S (log)": log(a["smoothness"]),
+        "|curvature| (log)": log(np.abs(a["curvature"])),
+        "along-ring 2nd difference / range, window median (log)": log(np.median(along, 1)),
+        "along-ring 2nd difference / range, window mean (log)": log(along.mean(1)),
+        "along-ring: window lower quartile / mean": np.percentile(along, 25, 1) / (along.mean(1) + 1e-12),
+        "cross-ring 2nd difference / range (log)": log(across[:, 0]),
+        "cross-ring 2nd difference / range, window median (log)": log(np.median(across, 1)),
+        "steep (ring above or below mostly vertical)": steep.astype(float),
+        "height z": xyz[:, 2],
+        "range (log)": log(rho),
+        "Rough share of the window (the defaults' labels)": (a["label"] == rl.ROUGH)[W].mean(1),
+    }
+
+
+def auc(pos, neg):
+    """P(a positive's value > a negative's), ties half (the Mann-Whitney U over the product)."""
+    if len(pos) == 0 or len(neg) == 0:
+        return float("nan")
+    v = np.concatenate([pos, neg])
+    order = np.argsort(v, kind="stable")
+    ranks = np.empty(len(v))
+    ranks[order] = np.arange(1, len(v) + 1)
+    sv = v[order]
+    _, start, counts = np.unique(sv, return_index=True, return_counts=True)
+    for s, c in zip(start[counts > 1], counts[counts > 1]):  # ties: their mean rank
+        ranks[order[s:s + c]] = s + (c + 1) / 2.0
+    return (ranks[:len(pos)].sum() - len(pos) * (len(pos) + 1) / 2.0) / (len(pos) * len(neg))
+
+
+def fit_logistic(X, y, iterations=600, rate=0.5, l2=1e-3):
+    """A logistic regression by gradient descent on standardized features; returns p(X)."""
+    mu, sd = X.mean(0), X.std(0) + 1e-9
+    Z = (X - mu) / sd
+    w, b = np.zeros(X.shape[1]), 0.0
+    for _ in range(iterations):
+        p = 1.0 / (1.0 + np.exp(-(Z @ w + b)))
+        w -= rate * (Z.T @ (p - y) / len(y) + l2 * w)
+        b -= rate * float(np.mean(p - y))
+    return lambda Q: 1.0 / (1.0 + np.exp(-(((Q - mu) / sd) @ w + b)))
+
+
+def main(argv):
+    p = argparse.ArgumentParser(prog="label_cues", description=__doc__.split("\n\n")[0])
+    p.add_argument("--data", help="labelled bags (default as evaluate_real)")
+    args = p.parse_args(argv)
+    bags = rl.labelled_bags(args.data or rl.default_data_dir())
+    if len(bags) < 2:
+        print("label_cues: skipping: needs at least two labelled bags (the shared KITTI frames)")
+        return 0
+    frames = []
+    with tempfile.TemporaryDirectory() as work:
+        for b in bags:
+            out = os.path.join(work, "labelled.bag")
+            run_method("ours", b, out, {}, rl.TOPIC)
+            for (name, xyz, sem), a in zip(rl.load_frames(b, rl.TOPIC), labelled_frames(out)):
+                frames.append((name, sem, a, rl.thin_clusters(xyz, sem), cues(a)))
+    names = list(frames[0][4])
+    print("| cue | AUC veg > building, among Plane | AUC veg > ground+building, among Rough |")
+    print("|---|---|---|")
+    for c in names:
+        cell = []
+        for label, neg in ((rl.PLANE, rl.BUILDING), (rl.ROUGH, NEGATIVE)):
+            pos = np.concatenate([f[4][c][(f[2]["label"] == label) & (f[1] == 70)] for f in frames])
+            bad = np.concatenate([f[4][c][(f[2]["label"] == label) & np.isin(f[1], neg)] for f in frames])
+            cell.append("%.3f" % auc(pos, bad))
+        print("| %s | %s |" % (c, " | ".join(cell)))
+    X = [np.nan_to_num(np.stack([f[4][c] for c in names], 1), posinf=0.0, neginf=0.0) for f in frames]
+    probability = []
+    for k in range(len(frames)):
+        rest = [j for j in range(len(frames)) if j != k]
+        sem = np.concatenate([frames[j][1] for j in rest])
+        lab = np.concatenate([frames[j][2]["label"] for j in rest])
+        train = np.isin(sem, POSITIVE + NEGATIVE) & np.isin(lab, (rl.PLANE, rl.ROUGH))
+        model = fit_logistic(np.concatenate([X[j] for j in rest])[train], np.isin(sem[train], POSITIVE).astype(float))
+        probability.append(model(X[k]))
+    rows = ["ground_plane", "building_plane", "vegetation_rough", "plane_purity", "rough_purity"]
+    print("\nAll cues at once (logistic regression, each frame scored by a model of the others):\n")
+    print("| threshold | " + " | ".join(rows) + " |")
+    print("|---" * (len(rows) + 1) + "|")
+    defaults = rl.pool([rl.frame_counts(f[2]["label"], f[1], f[3]) for f in frames])
+    print("| defaults | " + " | ".join("%.3f" % rl.ratio(defaults[r]) for r in rows) + " |")
+    for t in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
+        counts = []
+        for f, prob in zip(frames, probability):
+            label = f[2]["label"].copy()
+            split = np.isin(label, (rl.PLANE, rl.ROUGH))
+            label[split] = np.where(prob[split] > t, rl.ROUGH, rl.PLANE)
+            counts.append(rl.frame_counts(label, f[1], f[3]))
+        c = rl.pool(counts)
+        print("| %.1f | " % t + " | ".join("%.3f" % rl.ratio(c[r]) for r in rows) + " |")
+    return 0
