@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Checks that two builds of the core give byte-identical outputs: runs `process_bag` of each on
-# the shipped fixtures and the shared real frames (those present), with three parameter sets
+# the shipped fixtures and the shared real frames (those present), with four parameter sets
 # that together exercise every mode, and compares the output bags with cmp. Every speed change
 # is checked this way (docs/performance.md).
 # usage: compare_outputs.sh BEFORE_DIR AFTER_DIR [WORK_DIR]
@@ -30,7 +30,8 @@ bags=("$REPO_ROOT"/rosbag_fixtures/*.bag
   "$real/ouster/ouster_os1_32_legacy_1frame_unorganized.bag"
   "$real/ouster/ouster_os0_32_dual_1frame_organized.bag")
 [[ -n "${COMPARE_BAGS:-}" ]] && read -r -a bags <<<"$COMPARE_BAGS"
-# Parameter sets: defaults; every alternative mode; the paper's curvature with rings from elevation.
+# Parameter sets: defaults; every alternative mode; the paper's curvature with rings from elevation;
+# the inter-ring steps' non-default branches.
 cat > "$work/defaults.yaml" <<'EOF'
 min_range: 0.3
 EOF
@@ -46,6 +47,12 @@ curvature_mode: paper
 ring_from_elevation: true
 non_max_suppression: false
 EOF
+cat > "$work/inter_ring.yaml" <<'EOF'
+rough_window_rings: 2
+edge_support_noise: 0.0
+foliage_keep_silhouettes: false
+thin_occluded: false
+EOF
 differ=0 same=0
 for bag in "${bags[@]}"; do
   [[ -f "$bag" ]] || { echo "skipped (absent): $bag"; continue; }
@@ -55,7 +62,7 @@ with rosbag.Bag(sys.argv[1]) as b:
     print([t for t, i in b.get_type_and_topic_info().topics.items() if i.msg_type == 'sensor_msgs/PointCloud2'][0])
 EOF
 )
-  for params in defaults modes paper; do
+  for params in defaults modes paper inter_ring; do
     name="$(basename "$bag" .bag).$params"
     for side in before after; do
       dir=${!side}
