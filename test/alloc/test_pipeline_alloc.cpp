@@ -2,6 +2,7 @@
 // the order of frame sizes (a smaller frame after a larger one, organized after unorganized).
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -59,6 +60,31 @@ TEST(AllocCounter, SeesAllocations)
   EXPECT_EQ(v->size(), 100u);
 }
 
+// Runs `process(i, warming)` on every frame once (the first must allocate: the counter sees the
+// path's buffers grow), then twice over an order whose sizes go down as well as up (large, small,
+// organized, small, large, large, dual, few duplicates), where no frame may allocate.
+void expectNoneAfterWarmUp(std::size_t frames, const std::function<void(int, bool)>& process)
+{
+  for (std::size_t i = 0; i < frames; ++i)
+  {
+    if (i == 0) rc::test::startCountingAllocations();
+    process(static_cast<int>(i), true);
+    if (i == 0)
+    {
+      EXPECT_GT(rc::test::stopCountingAllocations(), 0u) << "the counter did not see the first frame's buffers grow";
+    }
+  }
+  const int order[] = {0, 1, 2, 1, 0, 0, 2, 2, 1, 3, 4, 3, 0, 4, 1, 3, 2, 4};
+  for (int pass = 0; pass < 2; ++pass)
+    for (const int i : order)
+    {
+      rc::test::startCountingAllocations();
+      process(i, false);
+      const std::size_t n = rc::test::stopCountingAllocations();
+      EXPECT_EQ(n, 0u) << "frame " << i << " allocated " << n << " times after warm-up (pass " << pass << ")";
+    }
+}
+
 TEST(PipelineAllocations, NoneAfterWarmUp)
 {
   if (!rc::test::allocCountingAvailable())
@@ -66,39 +92,16 @@ TEST(PipelineAllocations, NoneAfterWarmUp)
   const std::vector<SyntheticFrame> frames = makeFrames();
   rc::Pipeline pipeline;
   rc::FrameResult result;
-  // Warm-up: every frame once, so each buffer reaches its largest size. The very first frame
-  // must allocate: that proves the counter sees the core's allocations at all.
-  for (std::size_t i = 0; i < frames.size(); ++i)
-  {
-    const auto& f = frames[i];
-    if (i == 0)
-      rc::test::startCountingAllocations();
+  expectNoneAfterWarmUp(frames.size(), [&](int i, bool warming) {
+    const auto& f = frames[static_cast<std::size_t>(i)];
     const rc::Status st = pipeline.process(f.view, result);
-    if (i == 0)
-    {
-      EXPECT_GT(rc::test::stopCountingAllocations(), 0u) << "the counter did not see the first frame's buffers grow";
-    }
     ASSERT_TRUE(st.ok) << st.message;
     ASSERT_GT(result.label_counts[static_cast<int>(rc::Label::Plane)], 0u) << "scene not processed";
-    if (i >= 3)  // the frames with duplicates have them
+    if (warming && i >= 3)  // the frames with duplicates have them
     {
       EXPECT_GT(pipeline.grid().duplicates.size() * (i == 3 ? 3 : 60), f.view.size()) << "frame " << i;
     }
-  }
-  // Large, small, organized, small, large, large, dual, few duplicates: sizes go down as well as up.
-  const int order[] = {0, 1, 2, 1, 0, 0, 2, 2, 1, 3, 4, 3, 0, 4, 1, 3, 2, 4};
-  for (int pass = 0; pass < 2; ++pass)
-  {
-    for (const int i : order)
-    {
-      rc::test::startCountingAllocations();
-      const rc::Status st = pipeline.process(frames[i].view, result);
-      const std::size_t n = rc::test::stopCountingAllocations();
-      ASSERT_TRUE(st.ok) << st.message;
-      EXPECT_EQ(n, 0u) << "frame " << i << " (" << frames[i].view.size() << " points) allocated " << n
-                       << " times after warm-up (pass " << pass << ")";
-    }
-  }
+  });
 }
 
 TEST(PipelineAllocations, NoneForTheLoamSetsAfterWarmUp)
@@ -111,29 +114,13 @@ TEST(PipelineAllocations, NoneForTheLoamSetsAfterWarmUp)
   rc::Pipeline pipeline;
   rc::FrameResult result;
   rc::LoamFeatures loam;
-  const auto frame = [&](int i) {
-    ASSERT_TRUE(pipeline.process(frames[static_cast<std::size_t>(i)].view, result, rc::Pipeline::Scope::GridLabels).ok);
-    pipeline.selectLoamFeatures(frames[static_cast<std::size_t>(i)].view, loam);
-  };
-  for (std::size_t i = 0; i < frames.size(); ++i)
-  {
-    if (i == 0) rc::test::startCountingAllocations();
-    frame(static_cast<int>(i));
-    if (i == 0)
-    {
-      EXPECT_GT(rc::test::stopCountingAllocations(), 0u) << "the counter did not see the sets' buffers grow";
-    }
+  expectNoneAfterWarmUp(frames.size(), [&](int i, bool) {
+    const auto& f = frames[static_cast<std::size_t>(i)];
+    ASSERT_TRUE(pipeline.process(f.view, result, rc::Pipeline::Scope::GridLabels).ok);
+    pipeline.selectLoamFeatures(f.view, loam);
     ASSERT_FALSE(loam.flat.empty()) << "frame " << i << ": no flat points chosen";
     ASSERT_FALSE(loam.less_sharp.empty()) << "frame " << i << ": no less sharp points chosen";
-  }
-  const int order[] = {0, 1, 2, 1, 0, 0, 2, 2, 1, 3, 4, 3, 0, 4, 1, 3, 2, 4};
-  for (const int i : order)
-  {
-    rc::test::startCountingAllocations();
-    frame(i);
-    const std::size_t n = rc::test::stopCountingAllocations();
-    EXPECT_EQ(n, 0u) << "frame " << i << " allocated " << n << " times after warm-up";
-  }
+  });
 }
 
 TEST(PipelineAllocations, ResultIsTheFrameNotAStaleOne)
