@@ -4,6 +4,7 @@
 set(RC_ROS_SOURCES
   src/ros/cloud_adapter.cpp
   src/ros/outputs.cpp
+  src/ros/label_subsets.cpp
   src/ros/loam_outputs.cpp
   src/ros/odometry_motion.cpp
   src/ros/lidar_mounting.cpp
@@ -16,7 +17,7 @@ set(RC_ROS_SOURCES
   src/ros/ring_curvature_nodelet.cpp)
 # Written by another part of the package (rviz markers); required by FrameProcessor.
 if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src/ros/markers.cpp)
-  list(APPEND RC_ROS_SOURCES src/ros/markers.cpp)
+  list(APPEND RC_ROS_SOURCES src/ros/markers.cpp src/ros/primitive_points.cpp)
 endif()
 
 add_library(ring_curvature_ros ${RC_ROS_SOURCES})

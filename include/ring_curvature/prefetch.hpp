@@ -1,11 +1,11 @@
 // Prefetch hints at addresses that may lie past a buffer's end: the core's store streams, and
-// the nodelet's cloud fill and marker gather (ros/outputs.cpp, ros/markers.cpp).
+// the nodelet's cloud fill and marker gather (ros/outputs.cpp, ros/primitive_points.hpp).
 //
 // The core's per-point arrays are recycled from frame to frame: when a pass writes one again,
 // its lines were last touched a frame ago and the stages since have pushed them out of the
 // caches. Each store then waits for its line, the store buffer fills and the pass stalls on it
-// (the nodelet's cloud fill, the same pattern, took 2.5 times a memcpy of its bytes). Asking for
-// the lines some points ahead lets those fetches overlap the work.
+// (the nodelet's cloud fill has the same pattern). Asking for the lines some points ahead lets
+// those fetches overlap the work.
 #pragma once
 
 #include <cstddef>
@@ -32,7 +32,7 @@ inline void prefetchForRead(const void* p, std::size_t offset)
 }
 
 // How far ahead of their gathers the core's input passes ask for the records, in records: the
-// hardware's stream prefetch does not seem to follow gathers (256: 128 and 512 were no better).
+// hardware's stream prefetch does not seem to follow gathers.
 constexpr std::size_t kRecordsAhead = 256;
 
 // Asks for the `count` records from record `first` on (records of `step` bytes from `base`):
