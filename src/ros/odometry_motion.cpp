@@ -31,10 +31,10 @@ void OdometryMotion::add(const nav_msgs::Odometry& odom)
   poses_[(head_ + count_ - 1) % kHistory] = pose;
 }
 
-std::string OdometryMotion::childFrame() const
+void OdometryMotion::childFrame(std::string& out) const
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  return child_frame_;
+  out.assign(child_frame_);
 }
 
 bool OdometryMotion::motionFor(const ros::Time& stamp, double period, double window, double max_age,

@@ -265,7 +265,8 @@ void RingCurvatureNodelet::publishStats(const std_msgs::Header& header, std::chr
 bool RingCurvatureNodelet::deskewMotion(const std_msgs::Header& header, SweepMotion& motion)
 {
   Eigen::Isometry3d lidar_in_child;
-  if (mounting_ && !mounting_->lidarInChild(odometry_.childFrame(), header.frame_id, lidar_in_child, deskew_issue_))
+  if (mounting_) odometry_.childFrame(odom_child_frame_);
+  if (mounting_ && !mounting_->lidarInChild(odom_child_frame_, header.frame_id, lidar_in_child, deskew_issue_))
   {
     // a base's motion is not the LiDAR's: rather no deskew than a wrong one
     NODELET_WARN_THROTTLE(5.0, "LOAM clouds not deskewed: %s", deskew_issue_.c_str());

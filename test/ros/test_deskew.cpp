@@ -163,7 +163,9 @@ TEST(OdometryMotion, BaseMotionMovedToTheLidarByItsMounting)
     o.pose.pose.position.z = at.translation().z();
     lidar.add(o);
   }
-  EXPECT_EQ("base_link", base.childFrame());
+  std::string child;
+  base.childFrame(child);
+  EXPECT_EQ("base_link", child);
   SweepMotion from_base, own, unmounted;
   ASSERT_TRUE(base.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, from_base, &mount));
   ASSERT_TRUE(lidar.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, own));

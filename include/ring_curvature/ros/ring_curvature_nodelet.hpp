@@ -82,6 +82,7 @@ private:
   std::size_t deskewed_frames_ = 0;
   std::unique_ptr<LidarMounting> mounting_;  // ~deskew_use_tf: the odometry's child frame is not the LiDAR's
   std::string deskew_issue_;                 // why the last frame was not deskewed (tf), for diagnostics
+  std::string odom_child_frame_;             // the odometry's child frame, read per frame into this
 
   // Guards processor_ (its parameters change from the reconfigure callback) and stats_.
   mutable std::mutex process_mutex_;
