@@ -136,6 +136,86 @@ private:
 
 PointCloud2::Ptr copyOf(const PointCloud2& c) { return boost::make_shared<PointCloud2>(c); }
 
+// Two nodelets on one input, NAME deskewing with the odometry on ODOM (its other parameters set
+// by the caller before) and NAME_plain not: the last ~loam/cloud of each, the first one's last
+// ~frame_stats. (Both nodelets live in this process: roscpp counts them as one subscriber.)
+struct DeskewPair
+{
+  DeskewPair(Manager& m, const std::string& name, const std::string& input, const std::string& odom_topic)
+  {
+    ros::NodeHandle nh;
+    nh.setParam(name + "/deskew_odometry", odom_topic);
+    loaded = m.load(name, input) && m.load(name + "_plain", input);
+    pub = nh.advertise<PointCloud2>(input, 2);
+    odom = nh.advertise<nav_msgs::Odometry>(odom_topic, 10, true);
+    for (int i = 0; i < 2; ++i)
+      subs.push_back(nh.subscribe<PointCloud2>(name + (i == 0 ? "" : "_plain") + "/loam/cloud", 10,
+                                               [this, i](const PointCloud2::ConstPtr& c) {
+                                                 std::lock_guard<std::mutex> l(mutex);
+                                                 got[i] = c;
+                                               }));
+    subs.push_back(nh.subscribe<ring_curvature::FrameStats>(name + "/frame_stats", 10,
+                                                            [this](const ring_curvature::FrameStats::ConstPtr& st) {
+                                                              std::lock_guard<std::mutex> l(mutex);
+                                                              stats = st;
+                                                            }));
+  }
+  bool connected() const
+  {
+    return waitUntil([&] { return pub.getNumSubscribers() > 0 && odom.getNumSubscribers() > 0; });
+  }
+  // Poses of `child` 0.2 and 0.1 s before `stamp`, driving along its x at 6 m/s.
+  void drive(const ros::Time& stamp, const std::string& child = "")
+  {
+    for (int k = 2; k >= 1; --k)
+    {
+      nav_msgs::Odometry o;
+      o.header.stamp = stamp - ros::Duration(0.1 * k);
+      o.child_frame_id = child;
+      o.pose.pose.orientation.w = 1.0;
+      o.pose.pose.position.x = 6.0 * (o.header.stamp - stamp).toSec();
+      odom.publish(o);
+      ros::WallDuration(0.05).sleep();
+    }
+  }
+  // Publishes the first fixture frame stamped `t`; true once both clouds and the stats are in.
+  bool publishAndWait(const ros::Time& t)
+  {
+    {
+      std::lock_guard<std::mutex> l(mutex);
+      got[0] = got[1] = nullptr;
+      stats = nullptr;
+    }
+    auto in = copyOf(*frames()[0]);
+    in->header.stamp = t;
+    pub.publish(in);
+    return waitUntil([&] {
+      std::lock_guard<std::mutex> l(mutex);
+      return got[0] && got[1] && stats;
+    });
+  }
+  // Each point of the deskewed cloud less the plain one's, with its sweep time.
+  template <class F>
+  void eachDifference(F f) const
+  {
+    ASSERT_EQ(got[0]->width, got[1]->width);
+    for (std::uint32_t k = 0; k < got[0]->width; ++k)
+    {
+      float a[5], b[5];
+      std::memcpy(a, &got[0]->data[k * 32u], 20);
+      std::memcpy(b, &got[1]->data[k * 32u], 20);
+      ASSERT_EQ(a[4], b[4]) << "same point, same ring and time, at " << k;
+      f(k, a[0] - b[0], a[1] - b[1], a[2] - b[2], a[4] - std::floor(a[4]));
+    }
+  }
+  bool loaded = false;
+  ros::Publisher pub, odom;
+  std::vector<ros::Subscriber> subs;
+  mutable std::mutex mutex;
+  PointCloud2::ConstPtr got[2];
+  ring_curvature::FrameStats::ConstPtr stats;
+};
+
 }  // namespace
 
 TEST(NodeletInProcess, OneOutputPerTopicPerFrameAndZeroCopy)
@@ -385,84 +465,32 @@ TEST(NodeletInProcess, LoamOutputsSortedByRingWithSweepTimes)
 TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
 {
   Manager m;
-  ros::NodeHandle nh;
-  nh.setParam("/rc_deskew/deskew_odometry", "/odom_deskew");
-  auto deskewed = m.load("/rc_deskew", "/input_deskew");
-  auto plain = m.load("/rc_plain", "/input_deskew");
-  ASSERT_TRUE(deskewed && plain);
-  ros::Publisher pub = nh.advertise<PointCloud2>("/input_deskew", 2);
-  ros::Publisher odom = nh.advertise<nav_msgs::Odometry>("/odom_deskew", 10, true);
-  std::mutex mutex;
-  PointCloud2::ConstPtr got[2];
-  ring_curvature::FrameStats::ConstPtr stats;
-  std::vector<ros::Subscriber> subs;
-  for (int i = 0; i < 2; ++i)
-    subs.push_back(nh.subscribe<PointCloud2>(i == 0 ? "/rc_deskew/loam/cloud" : "/rc_plain/loam/cloud", 10,
-                                             [&, i](const PointCloud2::ConstPtr& c) {
-                                               std::lock_guard<std::mutex> l(mutex);
-                                               got[i] = c;
-                                             }));
-  subs.push_back(nh.subscribe<ring_curvature::FrameStats>("/rc_deskew/frame_stats", 10,
-                                                          [&](const ring_curvature::FrameStats::ConstPtr& st) {
-                                                            std::lock_guard<std::mutex> l(mutex);
-                                                            stats = st;
-                                                          }));
-  // (both nodelets live in this process: roscpp counts them as one subscriber)
-  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0 && odom.getNumSubscribers() > 0; }));
-  // 6 m/s straight ahead: 0.6 m per 0.1 s sweep
+  DeskewPair d(m, "/rc_deskew", "/input_deskew", "/odom_deskew");
+  ASSERT_TRUE(d.loaded && d.connected());
   const ros::Time stamp = frames()[0]->header.stamp;
-  for (int k = 2; k >= 1; --k)
+  d.drive(stamp);
+  ASSERT_TRUE(d.publishAndWait(stamp));
   {
-    nav_msgs::Odometry o;
-    o.header.stamp = stamp - ros::Duration(0.1 * k);
-    o.pose.pose.orientation.w = 1.0;
-    o.pose.pose.position.x = 6.0 * (o.header.stamp - stamp).toSec();
-    odom.publish(o);
-    ros::WallDuration(0.05).sleep();
-  }
-  const auto publishAndWait = [&](const ros::Time& t) {
-    {
-      std::lock_guard<std::mutex> l(mutex);
-      got[0] = got[1] = nullptr;
-      stats = nullptr;
-    }
-    auto in = copyOf(*frames()[0]);
-    in->header.stamp = t;
-    pub.publish(in);
-    return waitUntil([&] {
-      std::lock_guard<std::mutex> l(mutex);
-      return got[0] && got[1] && stats;
-    });
-  };
-  ASSERT_TRUE(publishAndWait(stamp));
-  {
-    std::lock_guard<std::mutex> l(mutex);
-    EXPECT_TRUE(stats->deskewed);
-    ASSERT_EQ(got[0]->width, got[1]->width);
+    std::lock_guard<std::mutex> l(d.mutex);
+    EXPECT_TRUE(d.stats->deskewed);
     std::size_t early = 0, late = 0;
-    for (std::uint32_t k = 0; k < got[0]->width; ++k)
-    {
-      float a[5], b[5];
-      std::memcpy(a, &got[0]->data[k * 32u], 20);
-      std::memcpy(b, &got[1]->data[k * 32u], 20);
-      ASSERT_EQ(a[4], b[4]) << "same point, same ring and time, at " << k;
-      const float t = a[4] - std::floor(a[4]);
+    d.eachDifference([&](std::uint32_t k, float dx, float dy, float dz, float t) {
       // moved forward by the distance driven since the sweep began, sideways and up not at all
-      EXPECT_NEAR(a[0] - b[0], 6.0f * t, 2e-3f) << "at " << k;
-      EXPECT_NEAR(a[1] - b[1], 0.0f, 1e-3f);
-      EXPECT_NEAR(a[2] - b[2], 0.0f, 1e-3f);
+      EXPECT_NEAR(dx, 6.0f * t, 2e-3f) << "at " << k;
+      EXPECT_NEAR(dy, 0.0f, 1e-3f);
+      EXPECT_NEAR(dz, 0.0f, 1e-3f);
       early += t < 0.01f ? 1 : 0;
       late += t > 0.09f ? 1 : 0;
-    }
+    });
     EXPECT_GT(early, 100u);
     EXPECT_GT(late, 100u);
   }
   // ten seconds after the last pose: no motion model, the points as they are
-  ASSERT_TRUE(publishAndWait(stamp + ros::Duration(10.0)));
-  std::lock_guard<std::mutex> l(mutex);
-  EXPECT_FALSE(stats->deskewed);
-  ASSERT_EQ(got[0]->width, got[1]->width);
-  EXPECT_EQ(0, std::memcmp(got[0]->data.data(), got[1]->data.data(), got[0]->data.size()));
+  ASSERT_TRUE(d.publishAndWait(stamp + ros::Duration(10.0)));
+  std::lock_guard<std::mutex> l(d.mutex);
+  EXPECT_FALSE(d.stats->deskewed);
+  ASSERT_EQ(d.got[0]->width, d.got[1]->width);
+  EXPECT_EQ(0, std::memcmp(d.got[0]->data.data(), d.got[1]->data.data(), d.got[0]->data.size()));
 }
 
 // Deskew with the odometry of a base (~deskew_use_tf): no deskew until tf has the LiDAR's
@@ -471,58 +499,16 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
 TEST(NodeletInProcess, LoamCloudsDeskewedWithBaseOdometryThroughTf)
 {
   Manager m;
-  ros::NodeHandle nh;
-  nh.setParam("/rc_base/deskew_odometry", "/odom_base");
-  nh.setParam("/rc_base/deskew_use_tf", true);
-  auto deskewed = m.load("/rc_base", "/input_base");
-  auto plain = m.load("/rc_base_plain", "/input_base");
-  ASSERT_TRUE(deskewed && plain);
-  ros::Publisher pub = nh.advertise<PointCloud2>("/input_base", 2);
-  ros::Publisher odom = nh.advertise<nav_msgs::Odometry>("/odom_base", 10, true);
-  std::mutex mutex;
-  PointCloud2::ConstPtr got[2];
-  ring_curvature::FrameStats::ConstPtr stats;
-  std::vector<ros::Subscriber> subs;
-  for (int i = 0; i < 2; ++i)
-    subs.push_back(nh.subscribe<PointCloud2>(i == 0 ? "/rc_base/loam/cloud" : "/rc_base_plain/loam/cloud", 10,
-                                             [&, i](const PointCloud2::ConstPtr& c) {
-                                               std::lock_guard<std::mutex> l(mutex);
-                                               got[i] = c;
-                                             }));
-  subs.push_back(nh.subscribe<ring_curvature::FrameStats>("/rc_base/frame_stats", 10,
-                                                          [&](const ring_curvature::FrameStats::ConstPtr& st) {
-                                                            std::lock_guard<std::mutex> l(mutex);
-                                                            stats = st;
-                                                          }));
-  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0 && odom.getNumSubscribers() > 0; }));
+  ros::param::set("/rc_base/deskew_use_tf", true);
+  DeskewPair d(m, "/rc_base", "/input_base", "/odom_base");
+  ASSERT_TRUE(d.loaded && d.connected());
   const ros::Time stamp = frames()[0]->header.stamp;
-  for (int k = 2; k >= 1; --k)
+  d.drive(stamp, "base_link");
+  ASSERT_TRUE(d.publishAndWait(stamp));
   {
-    nav_msgs::Odometry o;
-    o.header.stamp = stamp - ros::Duration(0.1 * k);
-    o.child_frame_id = "base_link";
-    o.pose.pose.orientation.w = 1.0;
-    o.pose.pose.position.x = 6.0 * (o.header.stamp - stamp).toSec();
-    odom.publish(o);
-    ros::WallDuration(0.05).sleep();
-  }
-  const auto publishAndWait = [&] {
-    {
-      std::lock_guard<std::mutex> l(mutex);
-      got[0] = got[1] = nullptr;
-      stats = nullptr;
-    }
-    pub.publish(copyOf(*frames()[0]));
-    return waitUntil([&] {
-      std::lock_guard<std::mutex> l(mutex);
-      return got[0] && got[1] && stats;
-    });
-  };
-  ASSERT_TRUE(publishAndWait());
-  {
-    std::lock_guard<std::mutex> l(mutex);
-    EXPECT_FALSE(stats->deskewed) << "deskewed without the mounting";
-    EXPECT_EQ(got[0]->data, got[1]->data);
+    std::lock_guard<std::mutex> l(d.mutex);
+    EXPECT_FALSE(d.stats->deskewed) << "deskewed without the mounting";
+    EXPECT_EQ(d.got[0]->data, d.got[1]->data);
   }
   tf2_ros::StaticTransformBroadcaster broadcaster;
   geometry_msgs::TransformStamped mount;
@@ -534,22 +520,16 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithBaseOdometryThroughTf)
   mount.transform.rotation.w = std::cos(M_PI / 4);
   broadcaster.sendTransform(mount);
   ASSERT_TRUE(waitUntil([&] {
-    if (!publishAndWait()) return false;
-    std::lock_guard<std::mutex> l(mutex);
-    return static_cast<bool>(stats->deskewed);
+    if (!d.publishAndWait(stamp)) return false;
+    std::lock_guard<std::mutex> l(d.mutex);
+    return static_cast<bool>(d.stats->deskewed);
   })) << "the mounting never taken from tf";
-  std::lock_guard<std::mutex> l(mutex);
-  ASSERT_EQ(got[0]->width, got[1]->width);
-  for (std::uint32_t k = 0; k < got[0]->width; ++k)
-  {
-    float a[5], b[5];
-    std::memcpy(a, &got[0]->data[k * 32u], 20);
-    std::memcpy(b, &got[1]->data[k * 32u], 20);
-    const float t = a[4] - std::floor(a[4]);
-    EXPECT_NEAR(a[0] - b[0], 0.0f, 1e-3f) << "at " << k;
-    EXPECT_NEAR(a[1] - b[1], -6.0f * t, 2e-3f) << "at " << k;
-    EXPECT_NEAR(a[2] - b[2], 0.0f, 1e-3f) << "at " << k;
-  }
+  std::lock_guard<std::mutex> l(d.mutex);
+  d.eachDifference([](std::uint32_t k, float dx, float dy, float dz, float t) {
+    EXPECT_NEAR(dx, 0.0f, 1e-3f) << "at " << k;
+    EXPECT_NEAR(dy, -6.0f * t, 2e-3f) << "at " << k;
+    EXPECT_NEAR(dz, 0.0f, 1e-3f) << "at " << k;
+  });
 }
 
 TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)
