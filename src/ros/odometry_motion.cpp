@@ -13,9 +13,7 @@ void OdometryMotion::add(const nav_msgs::Odometry& odom)
   const Eigen::Quaterniond q(o.w, o.x, o.y, o.z);
   if (!std::isfinite(q.norm()) || q.norm() < 0.5 || !std::isfinite(t.x + t.y + t.z)) return;  // not a pose
   std::lock_guard<std::mutex> lock(mutex_);
-  const std::string& child = odom.child_frame_id;
-  const std::size_t slash = !child.empty() && child[0] == '/' ? 1 : 0;
-  if (child.compare(slash, std::string::npos, child_frame_) != 0) child_frame_.assign(child, slash, std::string::npos);
+  if (odom.child_frame_id != child_frame_) child_frame_ = odom.child_frame_id;
   // the same stamp again: a refined pose of that frame; time going back (a bag played again, a
   // restarted back end): the history is another run's
   const Pose pose{odom.header.stamp, q.normalized(), Eigen::Vector3d(t.x, t.y, t.z)};

@@ -165,7 +165,7 @@ TEST(OdometryMotion, BaseMotionMovedToTheLidarByItsMounting)
   }
   std::string child;
   base.childFrame(child);
-  EXPECT_EQ("base_link", child);
+  EXPECT_EQ("/base_link", child);
   SweepMotion from_base, own, unmounted;
   ASSERT_TRUE(base.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, from_base, &mount));
   ASSERT_TRUE(lidar.motionFor(ros::Time(101.1), kPeriod, 0.5, 0.5, own));

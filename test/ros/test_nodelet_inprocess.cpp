@@ -503,7 +503,7 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithBaseOdometryThroughTf)
   DeskewPair d(m, "/rc_base", "/input_base", "/odom_base");
   ASSERT_TRUE(d.loaded && d.connected());
   const ros::Time stamp = frames()[0]->header.stamp;
-  d.drive(stamp, "base_link");
+  d.drive(stamp, "/base_link");  // (tf2 refuses a leading slash: the mounting must drop it)
   ASSERT_TRUE(d.publishAndWait(stamp));
   {
     std::lock_guard<std::mutex> l(d.mutex);

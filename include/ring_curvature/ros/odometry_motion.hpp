@@ -29,7 +29,7 @@ public:
   /// mounting); null when the child frame is the LiDAR's.
   bool motionFor(const ros::Time& stamp, double period, double window, double max_age, SweepMotion& motion,
                  const Eigen::Isometry3d* lidar_in_child = nullptr) const;
-  /// The child frame of the newest pose, without a leading '/' (empty before any), into `out`
+  /// The child frame of the newest pose as the odometry names it (empty before any), into `out`
   /// (assigned in place: no allocation per frame once it has the room).
   void childFrame(std::string& out) const;
 
