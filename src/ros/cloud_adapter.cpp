@@ -98,21 +98,10 @@ double timeScale(const PointCloudView& view, TimeUnit unit)
   return 1.0;
 }
 
-}  // namespace
-
-std::string describeFields(const sensor_msgs::PointCloud2& msg)
+// The message's description of its own layout holds: little-endian, sizes that agree with the
+// data, every field inside the point record.
+Status checkLayout(const sensor_msgs::PointCloud2& msg)
 {
-  if (msg.fields.empty())
-    return "(none)";
-  std::ostringstream s;
-  for (std::size_t i = 0; i < msg.fields.size(); ++i)
-    s << (i ? ", " : "") << msg.fields[i].name << ':' << datatypeName(msg.fields[i].datatype);
-  return s.str();
-}
-
-Status makeView(const sensor_msgs::PointCloud2& msg, const Params& params, PointCloudView& view)
-{
-  view = PointCloudView();
   if (msg.is_bigendian)
     return Status::error("cloud is big-endian (is_bigendian = true); only little-endian clouds "
                          "are supported: convert it on the producing side");
@@ -143,6 +132,26 @@ Status makeView(const sensor_msgs::PointCloud2& msg, const Params& params, Point
                            scalarTypeName(t) + " x" + std::to_string(std::max<std::uint32_t>(f.count, 1u)) +
                            ") ends past point_step " + std::to_string(msg.point_step));
   }
+  return Status::success();
+}
+
+}  // namespace
+
+std::string describeFields(const sensor_msgs::PointCloud2& msg)
+{
+  if (msg.fields.empty())
+    return "(none)";
+  std::ostringstream s;
+  for (std::size_t i = 0; i < msg.fields.size(); ++i)
+    s << (i ? ", " : "") << msg.fields[i].name << ':' << datatypeName(msg.fields[i].datatype);
+  return s.str();
+}
+
+Status makeView(const sensor_msgs::PointCloud2& msg, const Params& params, PointCloudView& view)
+{
+  view = PointCloudView();
+  if (Status s = checkLayout(msg); !s)
+    return s;
 
   // x, y, z: required, float32 or float64.
   FieldView* xyz[3] = {&view.x, &view.y, &view.z};
