@@ -265,12 +265,15 @@ void RingCurvatureNodelet::publishStats(const std_msgs::Header& header, std::chr
 bool RingCurvatureNodelet::deskewMotion(const std_msgs::Header& header, SweepMotion& motion)
 {
   Eigen::Isometry3d lidar_in_child;
-  if (mounting_) odometry_.childFrame(odom_child_frame_);
-  if (mounting_ && !mounting_->lidarInChild(odom_child_frame_, header.frame_id, lidar_in_child, deskew_issue_))
+  if (mounting_)
   {
-    // a base's motion is not the LiDAR's: rather no deskew than a wrong one
-    NODELET_WARN_THROTTLE(5.0, "LOAM clouds not deskewed: %s", deskew_issue_.c_str());
-    return false;
+    odometry_.childFrame(odom_child_frame_);
+    if (!mounting_->lidarInChild(odom_child_frame_, header.frame_id, lidar_in_child, deskew_issue_))
+    {
+      // a base's motion is not the LiDAR's: rather no deskew than a wrong one
+      NODELET_WARN_THROTTLE(5.0, "LOAM clouds not deskewed: %s", deskew_issue_.c_str());
+      return false;
+    }
   }
   deskew_issue_.clear();
   return odometry_.motionFor(header.stamp, processor_->params().scan_period, deskew_window_, deskew_max_age_, motion,
