@@ -17,6 +17,12 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_ros_driver_layouts ring_curvature_ros gtest_main)
     target_compile_options(test_ros_driver_layouts PRIVATE ${RC_WARNINGS})
   endif()
+  # ... and its rejections of the layouts it cannot read.
+  catkin_add_gtest(test_ros_driver_layout_errors test/ros/test_driver_layout_errors.cpp)
+  if(TARGET test_ros_driver_layout_errors)
+    target_link_libraries(test_ros_driver_layout_errors ring_curvature_ros gtest_main)
+    target_compile_options(test_ros_driver_layout_errors PRIVATE ${RC_WARNINGS})
+  endif()
 
   # Deskewing the LOAM clouds: the odometry's motion model and FrameProcessor's points.
   catkin_add_gtest(test_ros_deskew test/ros/test_deskew.cpp)
@@ -27,10 +33,14 @@ if(CATKIN_ENABLE_TESTING)
 
   # (The PCL point type's test, test_ros_point_types, is in cmake/lab.cmake: it needs PCL.)
 
-  add_rostest_gtest(test_ros_nodelet_inprocess test/ros/nodelet_inprocess.test test/ros/test_nodelet_inprocess.cpp)
-  target_link_libraries(test_ros_nodelet_inprocess ring_curvature_ros)
-  target_compile_definitions(test_ros_nodelet_inprocess PRIVATE RC_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
-  target_compile_options(test_ros_nodelet_inprocess PRIVATE ${RC_WARNINGS})
+  # The nodelet in the test process: its outputs (test_nodelet_inprocess.cpp), and its LOAM
+  # outputs and their deskewing (test_nodelet_inprocess_loam.cpp); each its own .test.
+  foreach(t nodelet_inprocess nodelet_inprocess_loam)
+    add_rostest_gtest(test_ros_${t} test/ros/${t}.test test/ros/test_${t}.cpp)
+    target_link_libraries(test_ros_${t} ring_curvature_ros)
+    target_compile_definitions(test_ros_${t} PRIVATE RC_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
+    target_compile_options(test_ros_${t} PRIVATE ${RC_WARNINGS})
+  endforeach()
 
   # One checker binary, several replays (add_rostest_gtest would build it once per .test).
   add_executable(test_ros_replay_checker test/ros/test_replay_checker.cpp)

@@ -152,31 +152,30 @@ TEST(ScanGrid, OrganizedGridMatchesItsInput)
   EXPECT_EQ(g.size(), pos);
 }
 
-// Unorganized rings interleaved point by point (velodyne's dual-return firing order: a firing's
-// first returns of every ring, then its second returns, then a few thirds): the grid positions,
-// the verdicts of the folded copies (resolved by blocks of the input, the rings' lists side by
-// side, each in its order) and each ring's elevation against their definitions and against the
-// same points sent ring after ring (one list of folded copies, in input order). 19 rings of
-// unlike sizes, empty and single-point ones and NaN returns among them, so that the rings' lists
-// end in different blocks; third returns that follow a folded copy.
-TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
+namespace
+{
+// One return of a sample
+struct Return
+{
+  double x, y, z;
+  bool nan;
+};
+// returns[r][k]: the first, second and third returns of sample k of ring r (empty: none)
+using Returns = std::vector<std::vector<std::vector<Return>>>;
+
+// Rings of `samples` samples each (the ring's size may be 0), clockwise at their own azimuth
+// step from shifted starts: every sample a first return (3 % NaN), most with an identical copy
+// (folded) or a second return 0.5 m further (off the grid), some of those with a third, a copy
+// of the first or 0.3 m further still.
+Returns interleavedReturns(const std::vector<int>& samples)
 {
   constexpr double kPiD = 3.14159265358979323846;
-  const int samples[] = {900, 905, 899, 1400, 3, 0, 1, 7, 900, 902, 450, 900, 900, 1200, 901, 903, 5, 900, 17};
-  const int rings = static_cast<int>(sizeof samples / sizeof samples[0]);
+  const int rings = static_cast<int>(samples.size());
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  struct Return
-  {
-    double x, y, z;
-    bool nan;
-  };
-  // returns[r][k]: the first, second and third returns of sample k of ring r (empty: none)
-  std::vector<std::vector<std::vector<Return>>> returns(rings);
-  int longest = 0;
+  Returns returns(rings);
   for (int r = 0; r < rings; ++r)
   {
-    longest = std::max(longest, samples[r]);
     const double step = 2 * kPiD / std::max(samples[r], 1), phi = (-15 + 1.6 * r) * kDeg;
     for (int k = 0; k < samples[r]; ++k)
     {
@@ -193,31 +192,84 @@ TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
       returns[r].push_back(f);
     }
   }
-  struct Id
-  {
-    int ring, k, rank;
-  };
-  std::vector<Id> fired, ring_order;  // the two input orders
+  return returns;
+}
+
+// A return: its ring, sample and rank (0: first, 1: second, 2: third)
+struct Id
+{
+  int ring, k, rank;
+};
+
+// Velodyne's dual-return firing order: a firing's first returns of every ring, then its second
+// returns, then its thirds
+std::vector<Id> firingOrder(const Returns& returns)
+{
+  const int rings = static_cast<int>(returns.size());
+  int longest = 0;
+  for (int r = 0; r < rings; ++r) longest = std::max(longest, static_cast<int>(returns[r].size()));
+  std::vector<Id> fired;
   for (int k = 0; k < longest; ++k)
     for (int rank = 0; rank < 3; ++rank)
       for (int r = 0; r < rings; ++r)
-        if (k < samples[r] && rank < static_cast<int>(returns[r][k].size())) fired.push_back({r, k, rank});
-  for (int r = 0; r < rings; ++r)
-    for (int k = 0; k < samples[r]; ++k)
+        if (k < static_cast<int>(returns[r].size()) && rank < static_cast<int>(returns[r][k].size()))
+          fired.push_back({r, k, rank});
+  return fired;
+}
+
+// The same returns ring after ring, each sample's returns in turn
+std::vector<Id> ringAfterRing(const Returns& returns)
+{
+  std::vector<Id> ring_order;
+  for (int r = 0; r < static_cast<int>(returns.size()); ++r)
+    for (int k = 0; k < static_cast<int>(returns[r].size()); ++k)
       for (int rank = 0; rank < static_cast<int>(returns[r][k].size()); ++rank) ring_order.push_back({r, k, rank});
-  const auto cloud = [&](const std::vector<Id>& order) {
-    SyntheticCloud c;
-    for (const Id& id : order)
-    {
-      const Return& q = returns[id.ring][id.k][id.rank];
-      if (q.nan)
-        c.addNaN(id.ring);
-      else
-        c.add(q.x, q.y, q.z, id.ring);
-    }
-    return c;
-  };
-  const SyntheticCloud cf = cloud(fired), cr = cloud(ring_order);
+  return ring_order;
+}
+
+// The cloud of the returns in `order`
+SyntheticCloud cloudOf(const Returns& returns, const std::vector<Id>& order)
+{
+  SyntheticCloud c;
+  for (const Id& id : order)
+  {
+    const Return& q = returns[id.ring][id.k][id.rank];
+    if (q.nan)
+      c.addNaN(id.ring);
+    else
+      c.add(q.x, q.y, q.z, id.ring);
+  }
+  return c;
+}
+
+// Where each return of `fired` sits in `ring_order` (each ring keeps its returns' order in both)
+std::vector<std::size_t> inRingOrder(const std::vector<Id>& fired, const std::vector<Id>& ring_order, int rings)
+{
+  std::vector<std::size_t> in_ring_order(fired.size());
+  std::vector<std::size_t> first_of_ring(rings + 1, 0);
+  for (const Id& id : ring_order) ++first_of_ring[id.ring + 1];
+  for (int r = 0; r < rings; ++r) first_of_ring[r + 1] += first_of_ring[r];
+  std::vector<std::size_t> seen(rings, 0);
+  for (std::size_t i = 0; i < fired.size(); ++i)
+    in_ring_order[i] = first_of_ring[fired[i].ring] + seen[fired[i].ring]++;
+  return in_ring_order;
+}
+}  // namespace
+
+// Unorganized rings interleaved point by point (velodyne's dual-return firing order: a firing's
+// first returns of every ring, then its second returns, then a few thirds): the grid positions,
+// the verdicts of the folded copies (resolved by blocks of the input, the rings' lists side by
+// side, each in its order) and each ring's elevation against their definitions and against the
+// same points sent ring after ring (one list of folded copies, in input order). 19 rings of
+// unlike sizes, empty and single-point ones and NaN returns among them, so that the rings' lists
+// end in different blocks; third returns that follow a folded copy.
+TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
+{
+  const std::vector<int> samples = {900, 905, 899, 1400, 3, 0, 1, 7, 900, 902, 450, 900, 900, 1200, 901, 903, 5, 900, 17};
+  const int rings = static_cast<int>(samples.size());
+  const Returns returns = interleavedReturns(samples);
+  const std::vector<Id> fired = firingOrder(returns), ring_order = ringAfterRing(returns);  // the two input orders
+  const SyntheticCloud cf = cloudOf(returns, fired), cr = cloudOf(returns, ring_order);
   Pipeline pf, pr;
   FrameResult rf, rr;
   ASSERT_TRUE(pf.process(cf.view(), rf).ok);
@@ -239,15 +291,7 @@ TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
   // Each point's state and grid position are those of the same point sent ring after ring (the
   // grids hold the same points in the same order: each ring keeps its points' order in both).
   ASSERT_EQ(g.size(), gr.size());
-  std::vector<std::size_t> in_ring_order(fired.size());
-  {
-    std::vector<std::size_t> first_of_ring(rings + 1, 0);
-    for (const Id& id : ring_order) ++first_of_ring[id.ring + 1];
-    for (int r = 0; r < rings; ++r) first_of_ring[r + 1] += first_of_ring[r];
-    std::vector<std::size_t> seen(rings, 0);
-    for (std::size_t i = 0; i < fired.size(); ++i)
-      in_ring_order[i] = first_of_ring[fired[i].ring] + seen[fired[i].ring]++;
-  }
+  const std::vector<std::size_t> in_ring_order = inRingOrder(fired, ring_order, rings);
   std::size_t duplicates = 0;
   for (std::size_t i = 0; i < fired.size(); ++i)
   {
@@ -265,4 +309,3 @@ TEST(ScanGrid, InterleavedRingsMatchTheirDefinitionsAndRingAfterRing)
     return l;
   }());
 }
-

@@ -1,4 +1,4 @@
-// Shared by the LOAM tests (test_loam_selector.cpp, test_loam_degeneracy.cpp): a VLP-16-like
+// Shared by the LOAM tests (test_loam_selector*.cpp, test_loam_degeneracy.cpp): a VLP-16-like
 // sensor, ray-cast scenes, a pipeline run with its LOAM sets, and the checks every set must pass.
 #pragma once
 
