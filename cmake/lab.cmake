@@ -47,7 +47,7 @@ target_compile_options(benchmark_nodelet PRIVATE ${RC_WARNINGS})
 add_library(ring_curvature_ab_shim SHARED src/tools/ab_shim.cpp)
 target_link_libraries(ring_curvature_ab_shim ring_curvature_core)
 target_compile_options(ring_curvature_ab_shim PRIVATE ${RC_WARNINGS})
-add_executable(ab_core src/tools/ab_core.cpp)
+add_executable(ab_core src/tools/ab_core.cpp src/tools/ab_build.cpp src/tools/ab_frames.cpp)
 target_include_directories(ab_core SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${EIGEN3_INCLUDE_DIRS})
 # the project's headers for the default field lists only: ab_core still links no build of the core
 target_include_directories(ab_core PRIVATE include)

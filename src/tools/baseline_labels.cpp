@@ -3,9 +3,6 @@
 // Labels every PointCloud2 of a bag with one of the PCL baselines and writes it on
 // /ring_curvature/labelled_points (every input field plus `label`, uint8), the topic and layout
 // the nodelet and process_bag use, so the evaluation scores the baselines exactly like ours.
-#include <rosbag/bag.h>
-#include <rosbag/query.h>
-#include <rosbag/view.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <cstdio>
@@ -13,9 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "bag_clouds.hpp"
 #include "bench_label_cloud.hpp"
 #include "baselines/euclidean_clustering.hpp"
 #include "baselines/pca_curvature.hpp"
+#include "option_pairs.hpp"
 #include "ring_curvature/ros/cloud_adapter.hpp"
 
 namespace rc = ring_curvature;
@@ -23,23 +22,12 @@ namespace rc = ring_curvature;
 int main(int argc, char** argv)
 {
   std::string input, output, method, topic;
-  for (int i = 1; i + 1 < argc; i += 2)
-  {
-    const std::string a = argv[i];
-    if (a == "--input")
-      input = argv[i + 1];
-    else if (a == "--output")
-      output = argv[i + 1];
-    else if (a == "--method")
-      method = argv[i + 1];
-    else if (a == "--topic")
-      topic = argv[i + 1];
-    else
-    {
-      std::cerr << "baseline_labels: unknown argument '" << a << "'\n";
-      return 2;
-    }
-  }
+  if (!rc::bench::readOptionPairs(argc, argv, "baseline_labels",
+                                  {{"--input", rc::bench::into(input)},
+                                   {"--output", rc::bench::into(output)},
+                                   {"--method", rc::bench::into(method)},
+                                   {"--topic", rc::bench::into(topic)}}))
+    return 2;
   if (argc % 2 == 0 || input.empty() || output.empty() || (method != "pca" && method != "euclid"))
   {
     std::cerr << "usage: baseline_labels --input IN.bag --output OUT.bag --method pca|euclid [--topic T]\n";
@@ -57,10 +45,7 @@ int main(int argc, char** argv)
     rosbag::Bag in(input, rosbag::bagmode::Read);
     rosbag::Bag out(output, rosbag::bagmode::Write);
     rosbag::View view;
-    if (topic.empty())
-      view.addQuery(in, rosbag::TypeQuery("sensor_msgs/PointCloud2"));
-    else
-      view.addQuery(in, rosbag::TopicQuery(topic));
+    rc::bench::addCloudQuery(view, in, topic);
     std::vector<std::uint8_t> labels;
     for (const rosbag::MessageInstance& m : view)
     {

@@ -5,9 +5,6 @@
 // same process. Prints a table of medians; the LAST line is machine-readable key=value pairs:
 //   frames=… points=… pipeline_ms=… pca_curv_ms=… euclid_ms=… speedup_pca=… loam_ms=…
 // (loam_ms: the LOAM feature sets of the SLAM front end, selected after the pipeline, not in it)
-#include <rosbag/bag.h>
-#include <rosbag/query.h>
-#include <rosbag/view.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <array>
@@ -20,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bag_clouds.hpp"
 #include "bench_stats.hpp"
 #include "baselines/euclidean_clustering.hpp"
 #include "baselines/pca_curvature.hpp"
@@ -106,38 +104,27 @@ void printRow(const char* name, const std::vector<double>& v)
               rc::bench::quantile(v, 1.0));
 }
 
-}  // namespace
-
-int main(int argc, char** argv)
+// Every PointCloud2 of the bag, read before any timing so that bag I/O is never inside a timed
+// region.
+bool loadClouds(const Options& opt, std::vector<sensor_msgs::PointCloud2::ConstPtr>& clouds)
 {
-  Options opt;
-  if (!parseArgs(argc, argv, opt))
-  {
-    usage();
-    return 2;
-  }
-
-  // Load every frame first so that bag I/O is never inside a timed region.
-  std::vector<sensor_msgs::PointCloud2::ConstPtr> clouds;
   try
   {
-    rosbag::Bag bag(opt.bag, rosbag::bagmode::Read);
-    rosbag::View query;
-    if (opt.topic.empty())
-      query.addQuery(bag, rosbag::TypeQuery("sensor_msgs/PointCloud2"));
-    else
-      query.addQuery(bag, rosbag::TopicQuery(opt.topic));
-    for (const rosbag::MessageInstance& m : query)
-      if (auto c = m.instantiate<sensor_msgs::PointCloud2>())
-        clouds.push_back(c);
+    clouds = rc::bench::readClouds(opt.bag, opt.topic);
   }
   catch (const std::exception& e)
   {
     std::cerr << "benchmark: cannot read " << opt.bag << ": " << e.what() << "\n";
-    return 1;
+    return false;
   }
-  std::vector<rc::PointCloudView> views;
-  std::size_t total_points = 0;
+  return true;
+}
+
+// The clouds as the core reads them (views into the messages, which must outlive them); false
+// when none is usable.
+bool makeViews(const Options& opt, const std::vector<sensor_msgs::PointCloud2::ConstPtr>& clouds,
+               std::vector<rc::PointCloudView>& views, std::size_t& total_points)
+{
   for (const auto& c : clouds)
   {
     rc::PointCloudView v;
@@ -155,52 +142,65 @@ int main(int argc, char** argv)
   {
     std::cerr << "benchmark: no usable PointCloud2 frames in " << opt.bag
               << (opt.topic.empty() ? "" : " on " + opt.topic) << "\n";
-    return 1;
+    return false;
   }
-  const double mean_points = static_cast<double>(total_points) / static_cast<double>(views.size());
+  return true;
+}
 
-  // --- our pipeline: one untimed warm-up pass (buffers grow to size), then `repeat` passes.
-  rc::Pipeline pipeline;
-  rc::FrameResult result;
+// Every sample of every timed row, and the labels and primitives of the first timed pass.
+struct Timings
+{
+  std::vector<double> grid, features, thresholds, classification, primitives, output, stage_sum, wall, loam;
+  std::vector<double> pca, euclid;
+  std::size_t primitive_count = 0;
+  std::array<std::size_t, rc::kNumLabels> counts{};
+};
+
+// Our pipeline: one untimed warm-up pass (buffers grow to size), then `repeat` passes.
+bool timePipeline(const Options& opt, const std::vector<rc::PointCloudView>& views, rc::Pipeline& pipeline,
+                  rc::FrameResult& result, Timings& t)
+{
   for (const auto& v : views)
   {
     const rc::Status st = pipeline.process(v, result);
     if (!st)
     {
       std::cerr << "benchmark: pipeline rejected a frame: " << st.message << "\n";
-      return 1;
+      return false;
     }
   }
-  std::vector<double> t_grid, t_feat, t_thr, t_cls, t_prim, t_out, t_stage_sum, t_wall, t_loam;
-  rc::LoamFeatures loam;  // the SLAM front end's sets, chosen from the grid's labels as the nodelet does
-  std::size_t primitives = 0;
-  std::array<std::size_t, rc::kNumLabels> counts{};
   for (int r = 0; r < opt.repeat; ++r)
   {
     for (const auto& v : views)
     {
       const auto t0 = Clock::now();
       pipeline.process(v, result);
-      t_wall.push_back(msSince(t0));
-      const rc::StageTimes& t = result.times;
-      t_grid.push_back(t.grid);
-      t_feat.push_back(t.features);
-      t_thr.push_back(t.thresholds);
-      t_cls.push_back(t.classification);
-      t_prim.push_back(t.primitives);
-      t_out.push_back(t.output);
-      t_stage_sum.push_back(t.total());
+      t.wall.push_back(msSince(t0));
+      const rc::StageTimes& st = result.times;
+      t.grid.push_back(st.grid);
+      t.features.push_back(st.features);
+      t.thresholds.push_back(st.thresholds);
+      t.classification.push_back(st.classification);
+      t.primitives.push_back(st.primitives);
+      t.output.push_back(st.output);
+      t.stage_sum.push_back(st.total());
       if (r == 0)
       {
-        primitives += result.primitives.primitives.size();
+        t.primitive_count += result.primitives.primitives.size();
         for (int l = 0; l < rc::kNumLabels; ++l)
-          counts[l] += result.label_counts[l];
+          t.counts[l] += result.label_counts[l];
       }
     }
   }
+  return true;
+}
 
-  // --- the LOAM sets, in passes of their own: between the pipeline's runs they would change
-  // what the caches hold when the next one starts.
+// The LOAM sets, in passes of their own: between the pipeline's runs they would change what the
+// caches hold when the next one starts.
+void timeLoam(const Options& opt, const std::vector<rc::PointCloudView>& views, rc::Pipeline& pipeline,
+              rc::FrameResult& result, Timings& t)
+{
+  rc::LoamFeatures loam;  // the SLAM front end's sets, chosen from the grid's labels as the nodelet does
   for (int r = 0; r < opt.repeat; ++r)
   {
     for (const auto& v : views)
@@ -208,66 +208,106 @@ int main(int argc, char** argv)
       pipeline.process(v, result, rc::Pipeline::Scope::GridLabels);
       const auto tl = Clock::now();
       pipeline.selectLoamFeatures(v, loam);
-      t_loam.push_back(msSince(tl));
+      t.loam.push_back(msSince(tl));
     }
   }
+}
 
-  // --- PCL baselines on the same frames, same process.
-  std::vector<double> t_pca, t_euclid;
-  if (opt.baselines)
+// PCL baselines on the same frames, same process.
+void timeBaselines(const Options& opt, const std::vector<rc::PointCloudView>& views, Timings& t)
+{
+  rc::baselines::PcaCurvature pca;
+  rc::baselines::EuclideanClusteringParams ep;
+  ep.tolerance = opt.euclid_tolerance;
+  rc::baselines::EuclideanClustering euclid(ep);
+  std::vector<std::uint8_t> labels;
+  for (int r = 0; r < opt.baseline_repeat; ++r)
   {
-    rc::baselines::PcaCurvature pca;
-    rc::baselines::EuclideanClusteringParams ep;
-    ep.tolerance = opt.euclid_tolerance;
-    rc::baselines::EuclideanClustering euclid(ep);
-    std::vector<std::uint8_t> labels;
-    for (int r = 0; r < opt.baseline_repeat; ++r)
+    for (const auto& v : views)
     {
-      for (const auto& v : views)
-      {
-        auto t0 = Clock::now();
-        pca.label(v, labels);
-        t_pca.push_back(msSince(t0));
-        t0 = Clock::now();
-        euclid.label(v, labels);
-        t_euclid.push_back(msSince(t0));
-      }
+      auto t0 = Clock::now();
+      pca.label(v, labels);
+      t.pca.push_back(msSince(t0));
+      t0 = Clock::now();
+      euclid.label(v, labels);
+      t.euclid.push_back(msSince(t0));
     }
   }
+}
 
+void printHeader(const Options& opt, std::size_t frames, double mean_points, const Timings& t)
+{
   std::printf("ring_curvature benchmark: %s\n", opt.bag.c_str());
   std::printf("  cpu: %s; single thread, Release; core loops: %s\n", cpuModel().c_str(),
               ring_curvature::coreLoopsIsa());
-  std::printf("  %zu frames, %.0f points/frame (mean), repeat %d (+1 warm-up)%s\n", views.size(), mean_points,
-              opt.repeat, opt.baselines ? (", baselines repeat " + std::to_string(opt.baseline_repeat) +
-                                  ", euclid tolerance " + std::to_string(static_cast<int>(opt.euclid_tolerance * 100.0f + 0.5f)) + " cm").c_str()
-                             : "");
-  const double nf = static_cast<double>(views.size());
+  const std::string baselines_note =
+      opt.baselines ? ", baselines repeat " + std::to_string(opt.baseline_repeat) + ", euclid tolerance " +
+                          std::to_string(static_cast<int>(opt.euclid_tolerance * 100.0f + 0.5f)) + " cm"
+                    : "";
+  std::printf("  %zu frames, %.0f points/frame (mean), repeat %d (+1 warm-up)%s\n", frames, mean_points, opt.repeat,
+              baselines_note.c_str());
+  const double nf = static_cast<double>(frames);
   auto perFrame = [nf](std::size_t c) { return static_cast<double>(c) / nf; };
   std::printf("  labels/frame: plane %.0f, edge %.0f, corner %.0f, rough %.0f, none %.0f; primitives/frame %.1f\n",
-              perFrame(counts[1]), perFrame(counts[2]), perFrame(counts[3]), perFrame(counts[4]),
-              perFrame(counts[0]), perFrame(primitives));
+              perFrame(t.counts[1]), perFrame(t.counts[2]), perFrame(t.counts[3]), perFrame(t.counts[4]),
+              perFrame(t.counts[0]), perFrame(t.primitive_count));
+}
+
+// The table of medians, then the machine-readable last line.
+void printTimes(const Options& opt, std::size_t frames, double mean_points, const Timings& t)
+{
   std::printf("  %-16s %10s %10s %10s\n", "stage [ms]", "median", "p90", "max");
-  printRow("grid", t_grid);
-  printRow("features", t_feat);
-  printRow("thresholds", t_thr);
-  printRow("classification", t_cls);
-  printRow("primitives", t_prim);
-  printRow("output", t_out);
-  printRow("sum of stages", t_stage_sum);
-  printRow("pipeline (wall)", t_wall);
-  printRow("LOAM sets", t_loam);
-  const double pipeline_ms = rc::bench::median(t_wall);
+  printRow("grid", t.grid);
+  printRow("features", t.features);
+  printRow("thresholds", t.thresholds);
+  printRow("classification", t.classification);
+  printRow("primitives", t.primitives);
+  printRow("output", t.output);
+  printRow("sum of stages", t.stage_sum);
+  printRow("pipeline (wall)", t.wall);
+  printRow("LOAM sets", t.loam);
+  const double pipeline_ms = rc::bench::median(t.wall);
   double pca_ms = std::nan(""), euclid_ms = std::nan(""), speedup = std::nan("");
   if (opt.baselines)
   {
-    printRow("PCL PCA-Curv", t_pca);
-    printRow("PCL Euclidean", t_euclid);
-    pca_ms = rc::bench::median(t_pca);
-    euclid_ms = rc::bench::median(t_euclid);
+    printRow("PCL PCA-Curv", t.pca);
+    printRow("PCL Euclidean", t.euclid);
+    pca_ms = rc::bench::median(t.pca);
+    euclid_ms = rc::bench::median(t.euclid);
     speedup = pca_ms / pipeline_ms;
   }
   std::printf("frames=%zu points=%.0f pipeline_ms=%.4f pca_curv_ms=%.3f euclid_ms=%.3f speedup_pca=%.1f loam_ms=%.4f\n",
-              views.size(), mean_points, pipeline_ms, pca_ms, euclid_ms, speedup, rc::bench::median(t_loam));
+              frames, mean_points, pipeline_ms, pca_ms, euclid_ms, speedup, rc::bench::median(t.loam));
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  Options opt;
+  if (!parseArgs(argc, argv, opt))
+  {
+    usage();
+    return 2;
+  }
+  std::vector<sensor_msgs::PointCloud2::ConstPtr> clouds;
+  std::vector<rc::PointCloudView> views;
+  std::size_t total_points = 0;
+  if (!loadClouds(opt, clouds) || !makeViews(opt, clouds, views, total_points))
+    return 1;
+  const double mean_points = static_cast<double>(total_points) / static_cast<double>(views.size());
+
+  // one pipeline for both: the LOAM passes start from the caches the timed passes left
+  rc::Pipeline pipeline;
+  rc::FrameResult result;
+  Timings t;
+  if (!timePipeline(opt, views, pipeline, result, t))
+    return 1;
+  timeLoam(opt, views, pipeline, result, t);
+  if (opt.baselines)
+    timeBaselines(opt, views, t);
+
+  printHeader(opt, views.size(), mean_points, t);
+  printTimes(opt, views.size(), mean_points, t);
   return 0;
 }
