@@ -2,7 +2,9 @@
 include(${CMAKE_CURRENT_LIST_DIR}/core_sources.cmake)
 add_library(ring_curvature_core ${RC_CORE_SOURCES})
 target_include_directories(ring_curvature_core PUBLIC include)
-# SYSTEM: GCC 12 warns (maybe-uninitialized) inside Eigen's own eigensolver.
+# SYSTEM: GCC 12 warns (maybe-uninitialized) inside Eigen's own eigensolver. PUBLIC: the public
+# headers use Eigen's types.
+#catkin_lint: ignore_once external_interface_path
 target_include_directories(ring_curvature_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIRS})
 target_include_directories(ring_curvature_core PRIVATE ${RC_CORE_PRIVATE_INCLUDE})
 target_compile_options(ring_curvature_core PRIVATE ${RC_WARNINGS})

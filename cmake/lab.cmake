@@ -6,6 +6,8 @@
 # PCL's VTK-linked components need MPI::MPI_C at generate time; asking for MPI first (and for
 # only the PCL components used here, none of which is VTK-based) keeps configuration working.
 find_package(MPI COMPONENTS C)
+# The lab's targets are never installed (they are not part of the package users get).
+#catkin_lint: ignore uninstalled_target
 find_package(PCL REQUIRED COMPONENTS common search kdtree features segmentation)
 find_package(pcl_conversions REQUIRED)
 
@@ -16,6 +18,7 @@ add_library(ring_curvature_baselines
 # the baselines' headers (src/baselines/*.hpp, included as "baselines/...") are the lab's alone
 target_include_directories(ring_curvature_baselines PUBLIC include src)
 # SYSTEM: PCL's headers are not warning-clean under -Wpedantic (anonymous structs).
+#catkin_lint: ignore_once external_interface_path
 target_include_directories(ring_curvature_baselines SYSTEM PUBLIC ${PCL_INCLUDE_DIRS})
 target_compile_definitions(ring_curvature_baselines PUBLIC ${PCL_DEFINITIONS})
 target_link_libraries(ring_curvature_baselines PUBLIC ring_curvature_core ${PCL_LIBRARIES})
@@ -34,7 +37,7 @@ target_compile_options(baseline_labels PRIVATE ${RC_WARNINGS})
 # The nodelet in a real manager, timed from outside (src/tools/benchmark_nodelet.sh runs it
 # with a private ROS master). Loads the plugin by name: it does not link the ROS library.
 add_executable(benchmark_nodelet src/tools/benchmark_nodelet.cpp)
-target_include_directories(benchmark_nodelet PRIVATE include ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
+target_include_directories(benchmark_nodelet PRIVATE include)
 target_include_directories(benchmark_nodelet SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
 target_link_libraries(benchmark_nodelet ${catkin_LIBRARIES})
 add_dependencies(benchmark_nodelet ${PROJECT_NAME}_generate_messages_cpp)

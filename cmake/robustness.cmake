@@ -27,7 +27,7 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(robustness_malformed_msg ring_curvature_ros GTest::gtest_main)
     target_compile_options(robustness_malformed_msg PRIVATE ${RC_WARNINGS})
   endif()
-  # ... and through the running nodelet, with diagnostics checked (Python checker).
-  find_package(rostest REQUIRED)
+  # ... and through the running nodelet, with diagnostics checked (Python checker; rostest is
+  # found by cmake/ros_tests.cmake).
   add_rostest(test/robustness/malformed_nodelet.test DEPENDENCIES ring_curvature_ros)
 endif()

@@ -21,8 +21,11 @@ if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src/ros/markers.cpp)
 endif()
 
 add_library(ring_curvature_ros ${RC_ROS_SOURCES})
-target_include_directories(ring_curvature_ros PUBLIC
-  include ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
+# (the generated message and config headers: generate_messages() puts the devel space's include
+# directory on every target's path)
+target_include_directories(ring_curvature_ros PUBLIC include)
+# The public headers include ROS's: users of the library need them too.
+#catkin_lint: ignore_once external_interface_path
 target_include_directories(ring_curvature_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
 target_link_libraries(ring_curvature_ros ring_curvature_core ${catkin_LIBRARIES})
 add_dependencies(ring_curvature_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
