@@ -11,6 +11,14 @@ if(CATKIN_ENABLE_TESTING)
     target_compile_options(test_ros_cloud_adapter PRIVATE ${RC_WARNINGS})
   endif()
 
+  # Parameters: the YAML file, parsing by key, dynamic_reconfigure's Config and back.
+  catkin_add_gtest(test_ros_param_loading test/ros/test_param_loading.cpp)
+  if(TARGET test_ros_param_loading)
+    target_link_libraries(test_ros_param_loading ring_curvature_ros gtest_main)
+    target_compile_definitions(test_ros_param_loading PRIVATE RC_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
+    target_compile_options(test_ros_param_loading PRIVATE ${RC_WARNINGS})
+  endif()
+
   # The adapter against real drivers' point layouts and the field-name parameters.
   catkin_add_gtest(test_ros_driver_layouts test/ros/test_driver_layouts.cpp)
   if(TARGET test_ros_driver_layouts)

@@ -4,14 +4,11 @@
 #include <ros/package.h>
 #include <ros/serialization.h>
 
-#include <fstream>
 #include <map>
 
 #include "ring_curvature/PrimitiveArray.h"
 #include "ring_curvature/ros/cloud_adapter.hpp"
 #include "ring_curvature/ros/frame_processor.hpp"
-#include "ring_curvature/ros/param_loading.hpp"
-#include "ring_curvature/ros/param_table.hpp"
 #include "cloud_builders.hpp"
 #include "output_checks.hpp"
 
@@ -27,31 +24,6 @@ const sensor_msgs::PointCloud2& vlp16Frame()
 {
   static const auto clouds = readClouds(fixture("nebula_vlp16_lastreturn_4scans.bag"), "/velodyne_points");
   return *clouds.at(0);
-}
-
-// Collects every key and value as text, to compare two Params key by key.
-class Dump : public ParamVisitor
-{
-public:
-  bool visit(const char* k, float& v) override { return put(k, std::to_string(v)); }
-  bool visit(const char* k, int& v) override { return put(k, std::to_string(v)); }
-  bool visit(const char* k, bool& v) override { return put(k, v ? "true" : "false"); }
-  bool visit(const char* k, std::string& v) override { return put(k, v); }
-  std::map<std::string, std::string> values;
-
-private:
-  bool put(const char* k, const std::string& v)
-  {
-    values[k] = v;
-    return true;
-  }
-};
-
-std::map<std::string, std::string> dump(Params p)
-{
-  Dump d;
-  EXPECT_TRUE(forEachParam(p, d).ok);
-  return d.values;
 }
 
 }  // namespace
@@ -232,50 +204,4 @@ TEST(Outputs, RecycledOnlyWhenNoOneElseHoldsThem)
   FrameProcessor other;
   ASSERT_TRUE(other.process(*clouds[2], fresh).ok);
   expectSameOutputs(third, fresh);
-}
-
-TEST(Params, ShippedYamlHoldsTheCoreDefaults)
-{
-  Params p;
-  const Status s = loadParamsFile(std::string(RC_SOURCE_DIR) + "/config/ring_curvature.yaml", p);
-  ASSERT_TRUE(s.ok) << s.message;
-  EXPECT_EQ(dump(Params()), dump(p)) << "config/ring_curvature.yaml drifted from params.hpp";
-}
-
-TEST(Params, YamlEveryKeyPresent)
-{
-  std::map<std::string, std::string> in_file;
-  std::ifstream f(std::string(RC_SOURCE_DIR) + "/config/ring_curvature.yaml");
-  std::string line;
-  while (std::getline(f, line))
-    if (!line.empty() && line[0] != '#' && line.find(':') != std::string::npos)
-      in_file[line.substr(0, line.find(':'))] = "";
-  for (const auto& kv : dump(Params()))
-    EXPECT_EQ(1u, in_file.count(kv.first)) << "key " << kv.first << " missing from config/ring_curvature.yaml";
-}
-
-TEST(Params, StringsAreParsedAndCheckedByKey)
-{
-  Params p;
-  EXPECT_TRUE(applyParamStrings({{"curvature_mode", "paper"}, {"min_primitive_points", "7"}}, p).ok);
-  EXPECT_EQ(CurvatureMode::Paper, p.curvature_mode);
-  EXPECT_EQ(7, p.min_primitive_points);
-  Status s = applyParamStrings({{"curvature_mode", "bogus"}}, p);
-  EXPECT_NE(std::string::npos, s.message.find("curvature_mode")) << s.message;
-  s = applyParamStrings({{"min_range", "near"}}, p);
-  EXPECT_NE(std::string::npos, s.message.find("min_range")) << s.message;
-  s = applyParamStrings({{"min_rnage", "1"}}, p);
-  EXPECT_NE(std::string::npos, s.message.find("min_rnage")) << s.message;
-  s = applyParamStrings({{"smoothness_window", "-4"}}, p);
-  EXPECT_FALSE(s.ok) << "validate() must reject a negative window";
-}
-
-TEST(Params, ReconfigureRoundTrip)
-{
-  Params p;
-  p.curvature_mode = CurvatureMode::Developed;
-  p.robust_k = 4.5f;
-  p.max_rings = 64;  // not live: must survive from the base
-  const Params q = fromConfig(toConfig(p), p);
-  EXPECT_EQ(dump(p), dump(q));
 }
