@@ -4,40 +4,18 @@ if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)
   find_package(roslaunch REQUIRED)
 
-  catkin_add_gtest(test_ros_cloud_adapter test/ros/test_cloud_adapter.cpp)
-  if(TARGET test_ros_cloud_adapter)
-    target_link_libraries(test_ros_cloud_adapter ring_curvature_ros gtest_main)
-    target_compile_definitions(test_ros_cloud_adapter PRIVATE RC_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
-    target_compile_options(test_ros_cloud_adapter PRIVATE ${RC_WARNINGS})
-  endif()
-
-  # Parameters: the YAML file, parsing by key, dynamic_reconfigure's Config and back.
-  catkin_add_gtest(test_ros_param_loading test/ros/test_param_loading.cpp)
-  if(TARGET test_ros_param_loading)
-    target_link_libraries(test_ros_param_loading ring_curvature_ros gtest_main)
-    target_compile_definitions(test_ros_param_loading PRIVATE RC_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
-    target_compile_options(test_ros_param_loading PRIVATE ${RC_WARNINGS})
-  endif()
-
-  # The adapter against real drivers' point layouts and the field-name parameters.
-  catkin_add_gtest(test_ros_driver_layouts test/ros/test_driver_layouts.cpp)
-  if(TARGET test_ros_driver_layouts)
-    target_link_libraries(test_ros_driver_layouts ring_curvature_ros gtest_main)
-    target_compile_options(test_ros_driver_layouts PRIVATE ${RC_WARNINGS})
-  endif()
-  # ... and its rejections of the layouts it cannot read.
-  catkin_add_gtest(test_ros_driver_layout_errors test/ros/test_driver_layout_errors.cpp)
-  if(TARGET test_ros_driver_layout_errors)
-    target_link_libraries(test_ros_driver_layout_errors ring_curvature_ros gtest_main)
-    target_compile_options(test_ros_driver_layout_errors PRIVATE ${RC_WARNINGS})
-  endif()
-
-  # Deskewing the LOAM clouds: the odometry's motion model and FrameProcessor's points.
-  catkin_add_gtest(test_ros_deskew test/ros/test_deskew.cpp)
-  if(TARGET test_ros_deskew)
-    target_link_libraries(test_ros_deskew ring_curvature_ros gtest_main)
-    target_compile_options(test_ros_deskew PRIVATE ${RC_WARNINGS})
-  endif()
+  # gtest binaries on the ROS library without a master, one per file test/ros/test_<name>.cpp:
+  # the adapter and the outputs; parameters (the YAML file, parsing by key, dynamic_reconfigure's
+  # Config and back); real drivers' point layouts and the field-name parameters, and the layouts
+  # it rejects; deskewing the LOAM clouds (the odometry's motion model, FrameProcessor's points).
+  foreach(t cloud_adapter param_loading driver_layouts driver_layout_errors deskew)
+    catkin_add_gtest(test_ros_${t} test/ros/test_${t}.cpp)
+    if(TARGET test_ros_${t})
+      target_link_libraries(test_ros_${t} ring_curvature_ros gtest_main)
+      target_compile_definitions(test_ros_${t} PRIVATE RC_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
+      target_compile_options(test_ros_${t} PRIVATE ${RC_WARNINGS})
+    endif()
+  endforeach()
 
   # (The PCL point type's test, test_ros_point_types, is in cmake/lab.cmake: it needs PCL.)
 
