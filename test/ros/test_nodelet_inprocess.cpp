@@ -16,6 +16,7 @@
 #include "ring_curvature/ros/param_loading.hpp"
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
 #include "cloud_builders.hpp"
+#include "keep_messages.hpp"
 #include "nodelet_harness.hpp"
 #include "output_checks.hpp"
 
@@ -34,33 +35,12 @@ struct Collector
   explicit Collector(const std::string& ns)
   {
     ros::NodeHandle nh;
-    subs.push_back(nh.subscribe<PointCloud2>(ns + "/labelled_points", 10, [this](const PointCloud2::ConstPtr& m) {
-      std::lock_guard<std::mutex> l(mutex);
-      labelled.push_back(m);
-    }));
-    subs.push_back(nh.subscribe<ring_curvature::PrimitiveArray>(
-        ns + "/primitives", 10, [this](const ring_curvature::PrimitiveArray::ConstPtr& m) {
-          std::lock_guard<std::mutex> l(mutex);
-          primitives.push_back(m);
-        }));
-    subs.push_back(nh.subscribe<PointCloud2>(ns + "/edges", 10, [this](const PointCloud2::ConstPtr& m) {
-      std::lock_guard<std::mutex> l(mutex);
-      edges.push_back(m);
-    }));
-    subs.push_back(nh.subscribe<PointCloud2>(ns + "/planes", 10, [this](const PointCloud2::ConstPtr& m) {
-      std::lock_guard<std::mutex> l(mutex);
-      planes.push_back(m);
-    }));
-    subs.push_back(nh.subscribe<visualization_msgs::MarkerArray>(
-        ns + "/markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
-          std::lock_guard<std::mutex> l(mutex);
-          markers.push_back(m);
-        }));
-    subs.push_back(nh.subscribe<ring_curvature::FrameStats>(
-        ns + "/frame_stats", 10, [this](const ring_curvature::FrameStats::ConstPtr& m) {
-          std::lock_guard<std::mutex> l(mutex);
-          stats.push_back(m);
-        }));
+    subs = {keepMessages<PointCloud2>(nh, ns + "/labelled_points", mutex, labelled),
+            keepMessages<ring_curvature::PrimitiveArray>(nh, ns + "/primitives", mutex, primitives),
+            keepMessages<PointCloud2>(nh, ns + "/edges", mutex, edges),
+            keepMessages<PointCloud2>(nh, ns + "/planes", mutex, planes),
+            keepMessages<visualization_msgs::MarkerArray>(nh, ns + "/markers", mutex, markers),
+            keepMessages<ring_curvature::FrameStats>(nh, ns + "/frame_stats", mutex, stats)};
   }
   bool complete(std::size_t n)
   {

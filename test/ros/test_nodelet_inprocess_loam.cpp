@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "ring_curvature/ros/ring_curvature_nodelet.hpp"
+#include "keep_messages.hpp"
 #include "nodelet_harness.hpp"
 
 using namespace ring_curvature_test;
@@ -124,16 +125,8 @@ TEST(NodeletInProcess, LoamOutputsSortedByRingWithSweepTimes)
   std::vector<ring_curvature::FrameStats::ConstPtr> stats;
   std::vector<ros::Subscriber> subs;
   for (int i = 0; i < 5; ++i)
-    subs.push_back(nh.subscribe<PointCloud2>(std::string("/rc_loam/loam/") + names[i], 10,
-                                             [&, i](const PointCloud2::ConstPtr& c) {
-                                               std::lock_guard<std::mutex> l(mutex);
-                                               got[i].push_back(c);
-                                             }));
-  subs.push_back(nh.subscribe<ring_curvature::FrameStats>("/rc_loam/frame_stats", 10,
-                                                          [&](const ring_curvature::FrameStats::ConstPtr& st) {
-                                                            std::lock_guard<std::mutex> l(mutex);
-                                                            stats.push_back(st);
-                                                          }));
+    subs.push_back(keepMessages<PointCloud2>(nh, std::string("/rc_loam/loam/") + names[i], mutex, got[i]));
+  subs.push_back(keepMessages<ring_curvature::FrameStats>(nh, "/rc_loam/frame_stats", mutex, stats));
   ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0; }));
   pub.publish(copyOf(*frames()[0]));
   ASSERT_TRUE(waitUntil([&] {

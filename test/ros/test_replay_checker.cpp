@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "cloud_builders.hpp"
+#include "keep_messages.hpp"
 #include "output_checks.hpp"
 
 using namespace ring_curvature_test;
@@ -52,17 +53,11 @@ TEST(Replay, EveryFrameOnceOnEveryOutput)
   Received r;
   ros::NodeHandle nh;
   std::vector<ros::Subscriber> subs;
-  const auto keep = [&](auto& vec) {
-    return [&](const auto& m) {
-      std::lock_guard<std::mutex> l(mutex);
-      vec.push_back(m);
-    };
-  };
-  subs.push_back(nh.subscribe<PointCloud2>(ns + "/labelled_points", 10, keep(r.labelled)));
-  subs.push_back(nh.subscribe<ring_curvature::PrimitiveArray>(ns + "/primitives", 10, keep(r.primitives)));
-  subs.push_back(nh.subscribe<PointCloud2>(ns + "/edges", 10, keep(r.edges)));
-  subs.push_back(nh.subscribe<PointCloud2>(ns + "/planes", 10, keep(r.planes)));
-  subs.push_back(nh.subscribe<visualization_msgs::MarkerArray>(ns + "/markers", 10, keep(r.markers)));
+  subs.push_back(keepMessages<PointCloud2>(nh, ns + "/labelled_points", mutex, r.labelled));
+  subs.push_back(keepMessages<ring_curvature::PrimitiveArray>(nh, ns + "/primitives", mutex, r.primitives));
+  subs.push_back(keepMessages<PointCloud2>(nh, ns + "/edges", mutex, r.edges));
+  subs.push_back(keepMessages<PointCloud2>(nh, ns + "/planes", mutex, r.planes));
+  subs.push_back(keepMessages<visualization_msgs::MarkerArray>(nh, ns + "/markers", mutex, r.markers));
 
   const std::size_t n = frames.size();
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
