@@ -39,6 +39,17 @@ assert len(msgs) == 4 and all("label" in [f.name for f in m.fields] and m.width 
 PY
 result "installed process_bag labels the 4 frames of a shipped bag" $?
 
+# The installed scene simulator (the evaluation's ground-truth scenes), through process_bag.
+( cd "$OUT" && rosrun ring_curvature simulate_scene --sensor vlp16 --scene box --frames 1 \
+    --output "$OUT/box.bag" --ground-truth "$OUT/box_gt.npy" > "$OUT/logs/simulate_scene.log" 2>&1 ) &&
+  rosrun ring_curvature process_bag --input "$OUT/box.bag" --output "$OUT/box_labelled.bag" > "$OUT/logs/process_box.log" 2>&1 &&
+  python3 - "$OUT/box_labelled.bag" <<'PY'
+import sys, rosbag
+with rosbag.Bag(sys.argv[1]) as b:
+    assert b.get_message_count("/ring_curvature/labelled_points") == 1
+PY
+result "installed simulate_scene writes a scene that process_bag labels" $?
+
 # 3. The nodelet in a nodelet manager, loaded by pluginlib from the install space, on a replay.
 live() {
   rs_roscore "$(rs_free_port 11711)" "$OUT/logs" || return 1
