@@ -57,7 +57,7 @@ class Tools(unittest.TestCase):
         self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
 
     def test_label_cues_auc_and_bound(self):
-        from rc_eval.label_cues import auc, fit_logistic, grid_links
+        from rc_eval.label_cues import auc, fit_boosted, fit_logistic, grid_links
         self.assertEqual(auc(np.array([2.0, 3.0]), np.array([0.0, 1.0])), 1.0)
         self.assertEqual(auc(np.array([0.0]), np.array([1.0])), 0.0)
         self.assertEqual(auc(np.array([1.0, 1.0]), np.array([1.0])), 0.5)  # ties count half
@@ -66,6 +66,13 @@ class Tools(unittest.TestCase):
         y = (X[:, 0] - 0.5 * X[:, 1] > 0).astype(float)  # separable by a line
         p = fit_logistic(X, y)(X)
         self.assertGreater(np.mean((p > 0.5) == (y > 0.5)), 0.97)
+        # a box rule no line can draw: the trees learn it, with the gain on the two cues that matter
+        X = rng.normal(0.0, 1.0, (4000, 3))
+        y = ((np.abs(X[:, 0]) < 0.7) & (X[:, 1] > -0.3)).astype(float)
+        boosted = fit_boosted(X[:3000], y[:3000], rounds=60)
+        self.assertGreater(np.mean((boosted(X[3000:]) > 0.5) == (y[3000:] > 0.5)), 0.95)
+        self.assertLess(np.mean((fit_logistic(X, y)(X) > 0.5) == (y > 0.5)), 0.85)
+        self.assertLess(boosted.gain_share[2], 0.05)
         # two rings of four points: neighbours by azimuth, the ring above and below by azimuth
         az = np.tile([0.0, 0.5, 1.0, 1.5], 2)
         a = np.zeros(8, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("ring", "u2")])

@@ -11,9 +11,14 @@ nearest sample on the ring above and below). Printed:
      to each frame in turn, relabels the Plane and Rough points; the issue's rows for several
      probability thresholds. If no threshold meets both purities at building -> Plane >= 0.90,
      a hand rule on these cues will not either (the frames are consecutive, so the bound is, if
-     anything, optimistic).
+     anything, optimistic);
+  3. the same with gradient-boosted trees, which can find any rule that cuts the cues into boxes
+     (range or height included, they can also learn where this one street's objects are: leave
+     such cues out with --without to see what the texture alone can do), and each cue's share of
+     the trees' split gain. With --sides, each side of the street is scored by models of the
+     other side only, so that a model cannot have learnt the very objects it scores.
 
-  rosrun ring_curvature label_cues [--data DIR]
+  tools/label_cues [--data DIR] [--without TEXT ...] [--sides]
 """
 import argparse
 import os
@@ -131,9 +136,73 @@ def fit_logistic(X, y, iterations=600, rate=0.5, l2=1e-3):
     return lambda Q: 1.0 / (1.0 + np.exp(-(((Q - mu) / sd) @ w + b)))
 
 
+def fit_boosted(X, y, rounds=200, depth=3, rate=0.2, bins=32, l2=1.0, min_hessian=20.0):
+    """Gradient-boosted trees (logistic loss, Newton leaves, splits on quantile bins of each cue):
+    the non-linear counterpart of fit_logistic, able to find any rule that cuts the cues into
+    boxes. Returns p(X)."""
+    edges = [np.unique(np.quantile(X[:, j], np.linspace(0, 1, bins + 1)[1:-1])) for j in range(X.shape[1])]
+
+    def binned(Q):
+        return np.stack([np.searchsorted(e, Q[:, j], side="right") for j, e in enumerate(edges)], 1).astype(np.int32)
+
+    B = binned(X)
+    score = np.zeros(len(y))
+    trees = []
+    gains = np.zeros(X.shape[1])
+
+    def grow(idx, g, h, level):
+        G, H = g[idx].sum(), h[idx].sum()
+        if level == depth or H < 2 * min_hessian:
+            return -rate * G / (H + l2)
+        best = None
+        for j in range(B.shape[1]):
+            gl = np.cumsum(np.bincount(B[idx, j], weights=g[idx], minlength=bins + 1))[:-1]
+            hl = np.cumsum(np.bincount(B[idx, j], weights=h[idx], minlength=bins + 1))[:-1]
+            ok = (hl >= min_hessian) & (H - hl >= min_hessian)
+            gain = np.where(ok, gl ** 2 / (hl + l2) + (G - gl) ** 2 / (H - hl + l2), -np.inf)
+            t = int(np.argmax(gain))
+            if np.isfinite(gain[t]) and (best is None or gain[t] > best[0]):
+                best = (gain[t], j, t)
+        if best is None:
+            return -rate * G / (H + l2)
+        gain, j, t = best
+        gains[j] += gain - G ** 2 / (H + l2)
+        left = B[idx, j] <= t
+        return (j, t, grow(idx[left], g, h, level + 1), grow(idx[~left], g, h, level + 1))
+
+    def apply(tree, Bq, idx, out):
+        if not isinstance(tree, tuple):
+            out[idx] += tree
+            return
+        j, t, lo, hi = tree
+        left = Bq[idx, j] <= t
+        apply(lo, Bq, idx[left], out)
+        apply(hi, Bq, idx[~left], out)
+
+    everything = np.arange(len(y))
+    for _ in range(rounds):
+        p = 1.0 / (1.0 + np.exp(-score))
+        tree = grow(everything, p - y, p * (1.0 - p), 0)
+        trees.append(tree)
+        apply(tree, B, everything, score)
+
+    def predict(Q):
+        Bq, out = binned(Q), np.zeros(len(Q))
+        for tree in trees:
+            apply(tree, Bq, np.arange(len(Q)), out)
+        return 1.0 / (1.0 + np.exp(-out))
+    predict.gain_share = gains / max(gains.sum(), 1e-300)
+    return predict
+
+
 def main(argv):
     p = argparse.ArgumentParser(prog="label_cues", description=__doc__.split("\n\n")[0])
     p.add_argument("--data", help="labelled bags (default as evaluate_real)")
+    p.add_argument("--without", action="append", default=[], metavar="TEXT",
+                   help="leave out the cues whose name holds TEXT (repeatable), e.g. 'height'")
+    p.add_argument("--sides", action="store_true",
+                   help="score each side of the street (y > 0, y <= 0) by models of the other side: "
+                        "no object is in both training and scoring")
     args = p.parse_args(argv)
     bags = rl.labelled_bags(args.data or rl.default_data_dir())
     if len(bags) < 2:
@@ -146,7 +215,7 @@ def main(argv):
             run_method("ours", b, out, {}, rl.TOPIC)
             for (name, xyz, sem), a in zip(rl.load_frames(b, rl.TOPIC), labelled_frames(out)):
                 frames.append((name, sem, a, rl.thin_clusters(xyz, sem), cues(a)))
-    names = list(frames[0][4])
+    names = [c for c in frames[0][4] if not any(w in c for w in args.without)]
     print("| cue | AUC veg > building, among Plane | AUC veg > ground+building, among Rough |")
     print("|---|---|---|")
     for c in names:
@@ -157,21 +226,40 @@ def main(argv):
             cell.append("%.3f" % auc(pos, bad))
         print("| %s | %s |" % (c, " | ".join(cell)))
     X = [np.nan_to_num(np.stack([f[4][c] for c in names], 1), posinf=0.0, neginf=0.0) for f in frames]
-    probability = []
+    for title, fit in (("logistic regression", fit_logistic), ("gradient-boosted trees", fit_boosted)):
+        bound(frames, names, X, title, fit, args.sides)
+    return 0
+
+
+def bound(frames, names, X, title, fit, sides):
+    """The issue's rows with the Plane and Rough points relabelled by a model of the cues, each
+    frame scored by a model trained on the others (with `sides`, on their other side of the
+    street: other objects), for several probability thresholds."""
+    probability, shares = [], []
     for k in range(len(frames)):
         rest = [j for j in range(len(frames)) if j != k]
         sem = np.concatenate([frames[j][1] for j in rest])
         lab = np.concatenate([frames[j][2]["label"] for j in rest])
+        left = np.concatenate([frames[j][2]["y"] > 0 for j in rest])
         train = np.isin(sem, POSITIVE + NEGATIVE) & np.isin(lab, (rl.PLANE, rl.ROUGH))
-        model = fit_logistic(np.concatenate([X[j] for j in rest])[train], np.isin(sem[train], POSITIVE).astype(float))
-        probability.append(model(X[k]))
+        Xr = np.concatenate([X[j] for j in rest])
+        prob = np.zeros(len(X[k]))
+        # with sides: the left of the street scored by a model of its right, and the reverse
+        for side in ((True, False) if sides else (None,)):
+            use = train if side is None else train & (left != side)
+            model = fit(Xr[use], np.isin(sem[use], POSITIVE).astype(float))
+            here = np.ones(len(X[k]), bool) if side is None else (frames[k][2]["y"] > 0) == side
+            prob[here] = model(X[k][here])
+            shares.append(getattr(model, "gain_share", None))
+        probability.append(prob)
     rows = ["ground_plane", "building_plane", "vegetation_rough", "plane_purity", "rough_purity"]
-    print("\nAll cues at once (logistic regression, each frame scored by a model of the others):\n")
+    print("\nAll cues at once (%s, each frame scored by a model of the others%s):\n"
+          % (title, ", side by side" if sides else ""))
     print("| threshold | " + " | ".join(rows) + " |")
     print("|---" * (len(rows) + 1) + "|")
     defaults = rl.pool([rl.frame_counts(f[2]["label"], f[1], f[3]) for f in frames])
     print("| defaults | " + " | ".join("%.3f" % rl.ratio(defaults[r]) for r in rows) + " |")
-    for t in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
+    for t in (0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
         counts = []
         for f, prob in zip(frames, probability):
             label = f[2]["label"].copy()
@@ -180,4 +268,7 @@ def main(argv):
             counts.append(rl.frame_counts(label, f[1], f[3]))
         c = rl.pool(counts)
         print("| %.1f | " % t + " | ".join("%.3f" % rl.ratio(c[r]) for r in rows) + " |")
-    return 0
+    if shares[0] is not None:
+        print("\nShare of the trees' split gain per cue (mean over the models):\n")
+        for name, share in sorted(zip(names, np.mean(shares, 0)), key=lambda x: -x[1]):
+            print("  %.3f  %s" % (share, name))
