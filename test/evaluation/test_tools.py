@@ -73,6 +73,20 @@ class Tools(unittest.TestCase):
         self.assertGreater(np.mean((boosted(X[3000:]) > 0.5) == (y[3000:] > 0.5)), 0.95)
         self.assertLess(np.mean((fit_logistic(X, y)(X) > 0.5) == (y > 0.5)), 0.85)
         self.assertLess(boosted.gain_share[2], 0.05)
+        # the other frame's cues: a wall seen again from 1 m further on stays thin, a bush does not
+        from rc_eval.label_cues import sequence_cues
+        wall = np.stack([np.full(3000, 10.0), rng.uniform(-5, 5, 3000), rng.uniform(0, 3, 3000)], 1)
+        bush = np.stack([rng.uniform(9.5, 10.5, 3000), rng.uniform(-5, 5, 3000), rng.uniform(0, 3, 3000)], 1)
+        moved = np.eye(4)
+        moved[0, 3] = 1.0  # frame 1 is 1 m ahead: its points are 1 m nearer in x
+        for cloud, thin in ((wall, True), (bush, False)):
+            other = cloud[rng.permutation(3000)] + rng.normal(0, 0.05, (3000, 3)) * [0, 1, 1]
+            c = sequence_cues(cloud, 0, ([cloud, other - [1.0, 0.0, 0.0]], np.stack([np.eye(4), moved])))
+            variation = np.median(c["other frame: surface variation of the neighbours"])
+            self.assertEqual(variation < 1e-6, thin, variation)
+            if thin:  # (on the plane only once moved by the poses: 1 m off it without)
+                plane = np.exp(np.median(c["other frame: distance to the neighbours' plane / rho (log)"]))
+                self.assertLess(plane, 1e-4)
         # two rings of four points: neighbours by azimuth, the ring above and below by azimuth
         az = np.tile([0.0, 0.5, 1.0, 1.5], 2)
         a = np.zeros(8, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("ring", "u2")])

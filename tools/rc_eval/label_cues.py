@@ -14,11 +14,13 @@ nearest sample on the ring above and below). Printed:
      anything, optimistic);
   3. the same with gradient-boosted trees, which can find any rule that cuts the cues into boxes
      (range or height included, they can also learn where this one street's objects are: leave
-     such cues out with --without to see what the texture alone can do), and each cue's share of
+     such cues out with --without 'height z' --without 'range (log)'), and each cue's share of
      the trees' split gain. With --sides, each side of the street is scored by models of the
-     other side only, so that a model cannot have learnt the very objects it scores.
+     other side only, so that a model cannot have learnt the very objects it scores. With
+     --two-frames, three more cues from the frames before and after (ground-truth poses): what a
+     second look at the same surface adds.
 
-  tools/label_cues [--data DIR] [--without TEXT ...] [--sides]
+  tools/label_cues [--data DIR] [--without CUE ...] [--sides] [--two-frames]
 """
 import argparse
 import os
@@ -114,6 +116,44 @@ def cues(a):
     }
 
 
+def sequence_cues(xyz, k, sequence):
+    """Cues from the frames before and after frame k of a sequence with ground-truth poses
+    (sequence: (clouds, poses)), moved into frame k: the other frame samples the same surface at
+    other places, so a wall stays thin and foliage does not. The least over the frames there are."""
+    from scipy.spatial import cKDTree
+    clouds, poses = sequence
+    rho = np.linalg.norm(xyz, axis=1)
+    nearest, residual, variation = [], [], []
+    for j in (k - 1, k + 1):
+        if not 0 <= j < len(clouds):
+            continue
+        T = np.linalg.inv(poses[k]) @ poses[j]
+        distance, idx = cKDTree(clouds[j] @ T[:3, :3].T + T[:3, 3]).query(xyz, k=10)
+        nb = clouds[j][idx] @ T[:3, :3].T + T[:3, 3]
+        centre = nb.mean(1)
+        w, v = np.linalg.eigh(np.einsum("nki,nkj->nij", nb - centre[:, None], nb - centre[:, None]))
+        nearest.append(distance[:, 0] / rho)
+        residual.append(np.abs(np.einsum("ni,ni->n", xyz - centre, v[:, :, 0])) / rho)
+        variation.append(w[:, 0] / np.maximum(w.sum(1), 1e-300))
+    log = lambda v: np.log(np.maximum(np.min(v, 0), 1e-12))  # noqa: E731
+    return {
+        "other frame: distance to the nearest point / rho (log)": log(nearest),
+        "other frame: distance to the neighbours' plane / rho (log)": log(residual),
+        "other frame: surface variation of the neighbours": np.min(variation, 0),
+    }
+
+
+def load_sequence(data_dir):
+    """The clouds and poses of the KITTI sequence beside the labelled frames (its frames 0-15
+    hold frames 0-2 of the labelled ones), or None."""
+    base = os.path.join(os.path.dirname(os.path.abspath(data_dir)), "sequences", "kitti_seq00_16frames")
+    if not (os.path.isfile(base + ".bag") and os.path.isfile(base + "_poses.npy")):
+        return None
+    from .cloud_io import read_bag_clouds
+    clouds = [np.stack([c["x"], c["y"], c["z"]], 1).astype(np.float64) for _, c, _ in read_bag_clouds(base + ".bag", rl.TOPIC)]
+    return clouds, np.load(base + "_poses.npy")
+
+
 def auc(pos, neg):
     """P(a positive's value > a negative's), ties half: the Mann-Whitney U over the product (over
     the finite values: a point without a curvature, say, is no evidence either way)."""
@@ -198,24 +238,39 @@ def fit_boosted(X, y, rounds=200, depth=3, rate=0.2, bins=32, l2=1.0, min_hessia
 def main(argv):
     p = argparse.ArgumentParser(prog="label_cues", description=__doc__.split("\n\n")[0])
     p.add_argument("--data", help="labelled bags (default as evaluate_real)")
-    p.add_argument("--without", action="append", default=[], metavar="TEXT",
-                   help="leave out the cues whose name holds TEXT (repeatable), e.g. 'height'")
+    p.add_argument("--without", action="append", default=[], metavar="CUE",
+                   help="leave out the cue of this name (repeatable), e.g. 'height z'")
     p.add_argument("--sides", action="store_true",
                    help="score each side of the street (y > 0, y <= 0) by models of the other side: "
                         "no object is in both training and scoring")
+    p.add_argument("--two-frames", action="store_true",
+                   help="add cues from the frames before and after, moved by the ground-truth poses "
+                        "(the KITTI sequence beside the labelled frames)")
     args = p.parse_args(argv)
     bags = rl.labelled_bags(args.data or rl.default_data_dir())
     if len(bags) < 2:
         print("label_cues: skipping: needs at least two labelled bags (the shared KITTI frames)")
         return 0
+    sequence = load_sequence(args.data or rl.default_data_dir()) if args.two_frames else None
+    if args.two_frames and sequence is None:
+        print("label_cues: --two-frames needs ../sequences/kitti_seq00_16frames.bag and _poses.npy beside the data")
+        return 1
     frames = []
     with tempfile.TemporaryDirectory() as work:
         for b in bags:
             out = os.path.join(work, "labelled.bag")
             run_method("ours", b, out, {}, rl.TOPIC)
             for (name, xyz, sem), a in zip(rl.load_frames(b, rl.TOPIC), labelled_frames(out)):
-                frames.append((name, sem, a, rl.thin_clusters(xyz, sem), cues(a)))
-    names = [c for c in frames[0][4] if not any(w in c for w in args.without)]
+                c = cues(a)
+                if sequence:  # (the labelled frame's number in sequence 00 ends its name)
+                    xyz_a = np.stack([a["x"], a["y"], a["z"]], 1).astype(np.float64)
+                    c.update(sequence_cues(xyz_a, int(name.rsplit("_", 1)[1]), sequence))
+                frames.append((name, sem, a, rl.thin_clusters(xyz, sem), c))
+    unknown = [w for w in args.without if w not in frames[0][4]]
+    if unknown:
+        print("label_cues: no cue named %s; the cues: %s" % (", ".join(map(repr, unknown)), ", ".join(map(repr, frames[0][4]))))
+        return 2
+    names = [c for c in frames[0][4] if c not in args.without]
     print("| cue | AUC veg > building, among Plane | AUC veg > ground+building, among Rough |")
     print("|---|---|---|")
     for c in names:
