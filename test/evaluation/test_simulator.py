@@ -46,6 +46,27 @@ class SequencePaths(unittest.TestCase):
         np.testing.assert_allclose(at_speed.distance(t), speed * t)
 
 
+    def test_organized_sensor_frames_as_ouster_ros_publishes_them(self):
+        from rc_eval.raycast import Ground
+        from rc_eval.sequence import make_path, sensor_for, simulate_sequence_frame
+        sensor = sensor_for("os128")
+        path = make_path("street", 6.0, 1.0)
+        ground = [(Ground(-1.8), None, np.inf)]  # the ground 1.8 m below the sensor, nothing else
+        rng = np.random.default_rng(1)
+        pts = simulate_sequence_frame(sensor, path, ground, 0, 0.0, rng)
+        self.assertEqual(len(pts["x"]), 128 * 1024)  # every column of every beam, hit or not
+        rings = pts["ring"].reshape(128, 1024)
+        np.testing.assert_array_equal(rings[:, 0], np.arange(128))
+        hit = np.isfinite(pts["z"].reshape(128, 1024))
+        self.assertFalse(hit[0].any())  # ring 0 is the top beam: it looks up, at nothing
+        self.assertTrue(hit[-1].all())  # the bottom beam sees the ground all around
+        self.assertTrue(np.all(pts["range"].reshape(128, 1024)[~hit] == 0))
+        t = pts["t"].reshape(128, 1024)  # ns after the stamp, one time per column
+        np.testing.assert_array_equal(t[0], t[-1])
+        self.assertEqual(t[0, 0], 0)
+        self.assertAlmostEqual(t[0, -1], 1023 * 1e9 * 0.1 / 1024, delta=1)
+
+
 class GroundTruthGeometry(unittest.TestCase):
     """A tall box turned 45 deg in front of a wall: the ring crosses one vertical fold (the
     box's front edge, azimuth 0) and two silhouettes (its side edges); nothing else."""

@@ -25,10 +25,11 @@ def read_cloud(msg):
     return np.concatenate(rows) if rows else np.zeros(0, dt)
 
 
-def make_cloud(points, layout, header, height, width):
-    """PointCloud2 from a dict of arrays, packed with the given (name, offset, dtype) layout."""
+def make_cloud(points, layout, header, height, width, itemsize=None):
+    """PointCloud2 from a dict of arrays, packed with the given (name, offset, dtype) layout
+    (records of `itemsize` bytes if given: a driver's padded point type)."""
     from sensor_msgs.msg import PointCloud2, PointField
-    step = max(off + np.dtype(t).itemsize for _, off, t in layout)
+    step = itemsize or max(off + np.dtype(t).itemsize for _, off, t in layout)
     dt = np.dtype({"names": [n for n, _, _ in layout], "formats": [t for _, _, t in layout],
                    "offsets": [o for _, o, _ in layout], "itemsize": step})
     arr = np.zeros(height * width, dt)

@@ -28,7 +28,19 @@ PRESETS = {
     "yard-hdl64": ("yard", "hdl64e", 1.4, 120),
     # the HDL-64E street from rest, 6 m/s after 2 s (a car pulling away)
     "street-hdl64-start": ("street", "hdl64e", 6.0, 120, 3.0),
+    # the street seen by an OS1-128-like sensor, as ouster-ros publishes it (OUSTER_LAYOUT)
+    "street-os128": ("street", "os128", 6.0, 120),
 }
+
+# Packed XYZIRT as velodyne_pointcloud publishes it: unorganized, no-returns dropped.
+VELODYNE_LAYOUT = [("x", 0, "<f4"), ("y", 4, "<f4"), ("z", 8, "<f4"), ("intensity", 12, "<f4"),
+                   ("ring", 16, "<u2"), ("time", 18, "<f4")]
+# ouster-ros PointOS (48 bytes): organized, one row per beam, the top beam's first (ring 0),
+# no-returns NaN; `t` in ns after the stamp, `range` in mm.
+OUSTER_LAYOUT = [("x", 0, "<f4"), ("y", 4, "<f4"), ("z", 8, "<f4"), ("intensity", 16, "<f4"),
+                 ("t", 20, "<u4"), ("reflectivity", 24, "<u2"), ("ring", 26, "<u2"), ("ambient", 28, "<u2"),
+                 ("range", 32, "<u4")]
+OUSTER_POINT_STEP = 48
 
 
 def make_hdl64e():
@@ -281,8 +293,9 @@ def sequence_scene(kind, path, seed, height):
 
 # ---------------------------------------------------------------- frames
 def simulate_sequence_frame(sensor, path, shapes, k, noise_sigma, rng, cull=None):
-    """One sweep k: points in the sensor frame at their firing times, in driver order
-    (column by column, lasers in firing order), no-returns dropped."""
+    """One sweep k: points in the sensor frame at their firing times, in driver order: column by
+    column, lasers in firing order, no-returns dropped; for an organized sensor, row by row from
+    the top beam (ring 0, as ouster-ros numbers them), no-returns NaN."""
     n_b, n_c = sensor.n_beams, sensor.n_columns
     period = 60.0 / sensor.rpm
     t_rel = np.arange(n_c)[None, :] * sensor.block_period + np.arange(n_b)[:, None] * sensor.firing_dt
@@ -305,6 +318,13 @@ def simulate_sequence_frame(sensor, path, shapes, k, noise_sigma, rng, cull=None
     base = np.select([kind == 1, kind == 5, kind == 4], [40.0, 70.0, 15.0], 0.0)
     inten = np.clip(base + rng.normal(0, 3.0, t.shape), 0, 255)
     ring = np.broadcast_to(sensor.ring[:, None], (n_b, n_c))
+    if sensor.organized:
+        rows = np.argsort(-sensor.elevation_deg, kind="stable")  # top beam first
+        t_ns = np.round(np.broadcast_to(t_rel, (n_b, n_c)) * 1e9)
+        return {"x": xyz[rows, :, 0].reshape(-1), "y": xyz[rows, :, 1].reshape(-1), "z": xyz[rows, :, 2].reshape(-1),
+                "intensity": np.where(valid, inten, 0.0)[rows].reshape(-1), "t": t_ns[rows].reshape(-1),
+                "ring": np.repeat(np.arange(n_b), n_c), "reflectivity": 0, "ambient": 0,
+                "range": np.where(valid, np.round(meas * 1000.0), 0.0)[rows].reshape(-1)}
     keep = valid.T.reshape(-1)
     flat = lambda a, w=None: np.swapaxes(a, 0, 1).reshape((-1, 3) if w else (-1,))[keep]  # noqa: E731
     xyz = flat(xyz, 3)
@@ -336,8 +356,9 @@ def _quat(R):
 
 
 def generate(name, bag_path, tum_path, seed=1, frames=None, noise=0.01, height=1.8, progress=None):
-    """Writes the sequence preset `name` (PRESETS) as a bag of packed XYZIRT clouds on
-    /velodyne_points (frame velodyne) and its ground truth as TUM. Deterministic from seed."""
+    """Writes the sequence preset `name` (PRESETS) as a bag of clouds on /velodyne_points (frame
+    velodyne; packed XYZIRT, or ouster-ros PointOS for an organized sensor) and its ground truth
+    as TUM. Deterministic from seed."""
     import rosbag
     import rospy
     from std_msgs.msg import Header
@@ -351,8 +372,7 @@ def generate(name, bag_path, tum_path, seed=1, frames=None, noise=0.01, height=1
     period = 60.0 / sensor.rpm
     path = make_path(kind, speed, frames * period + 0.2, accel)
     shapes = sequence_scene(kind, path, seed, height)
-    layout = [("x", 0, "<f4"), ("y", 4, "<f4"), ("z", 8, "<f4"), ("intensity", 12, "<f4"),
-              ("ring", 16, "<u2"), ("time", 18, "<f4")]
+    layout, step = (OUSTER_LAYOUT, OUSTER_POINT_STEP) if sensor.organized else (VELODYNE_LAYOUT, None)
     t0 = 1.6e9
     stamps = [t0 + k * period for k in range(frames)]
     tmp = bag_path + ".part"
@@ -365,7 +385,9 @@ def generate(name, bag_path, tum_path, seed=1, frames=None, noise=0.01, height=1
                     s.rng = vrng
             pts = simulate_sequence_frame(sensor, path, shapes, k, noise, rng)
             stamp = rospy.Time.from_sec(stamps[k])
-            msg = make_cloud(pts, layout, Header(seq=k, stamp=stamp, frame_id="velodyne"), 1, len(pts["x"]))
+            rows = sensor.n_beams if sensor.organized else 1
+            msg = make_cloud(pts, layout, Header(seq=k, stamp=stamp, frame_id="velodyne"), rows, len(pts["x"]) // rows,
+                             itemsize=step)
             bag.write("/velodyne_points", msg, stamp)
             if progress:
                 progress(k, len(pts["x"]))
