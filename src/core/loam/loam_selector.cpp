@@ -256,6 +256,8 @@ void LoamSelector::sweepTimes(const PointCloudView& view, const ScanGrid& grid, 
       readTimes(view, grid, [](const std::uint8_t* r) { return load<float>(r); }, time_scratch_, lo, hi);
     else if (view.time.type == ScalarType::Float64)
       readTimes(view, grid, [](const std::uint8_t* r) { return load<double>(r); }, time_scratch_, lo, hi);
+    else if (view.time.type == ScalarType::UInt32)  // (ouster-ros `t`, nebula `time_stamp`: ns)
+      readTimes(view, grid, [](const std::uint8_t* r) { return load<std::uint32_t>(r); }, time_scratch_, lo, hi);
     else
       readTimes(view, grid, [&view](const std::uint8_t* r) { return readScalar(r, view.time.type); }, time_scratch_, lo, hi);
     // A constant field (KITTI's bags carry time = 0) says nothing: fall back to the azimuth.
