@@ -56,6 +56,16 @@ class Tools(unittest.TestCase):
         self.assertLess(ate_aligned, np.sqrt(np.mean(np.sum(noise ** 2, axis=1))) + 1e-12)
         self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
 
+    def test_less_sharp_relay_drops_the_points_ours_labels_so(self):
+        from rc_eval.less_sharp_relay import kept
+        labelled = np.zeros(5, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("label", "u1")])
+        labelled["x"], labelled["y"], labelled["label"] = [1, 2, 3, 4, 5], [0, 0, 1, 1, 0], [1, 4, 4, 2, 3]
+        stock = np.zeros(4, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4")])
+        stock["x"], stock["y"] = [2, 3, 5, 9], [0, 1, 0, 9]  # Rough, Rough, Corner, not in ours' cloud
+        self.assertEqual(list(kept(stock, labelled, [4])), [False, False, True, True])
+        self.assertEqual(list(kept(stock, labelled, [3, 4])), [False, False, False, True])
+        self.assertEqual(list(kept(stock, labelled, [])), [True] * 4)
+
     def test_label_cues_auc_and_bound(self):
         from rc_eval.label_cues import auc, fit_boosted, fit_logistic, grid_links
         self.assertEqual(auc(np.array([2.0, 3.0]), np.array([0.0, 1.0])), 1.0)
