@@ -128,8 +128,9 @@ def sequence_cues(xyz, k, sequence):
         if not 0 <= j < len(clouds):
             continue
         T = np.linalg.inv(poses[k]) @ poses[j]
-        distance, idx = cKDTree(clouds[j] @ T[:3, :3].T + T[:3, 3]).query(xyz, k=10)
-        nb = clouds[j][idx] @ T[:3, :3].T + T[:3, 3]
+        moved = clouds[j] @ T[:3, :3].T + T[:3, 3]
+        distance, idx = cKDTree(moved).query(xyz, k=10)
+        nb = moved[idx]
         centre = nb.mean(1)
         w, v = np.linalg.eigh(np.einsum("nki,nkj->nij", nb - centre[:, None], nb - centre[:, None]))
         nearest.append(distance[:, 0] / rho)
