@@ -56,6 +56,34 @@ class Tools(unittest.TestCase):
         self.assertLess(ate_aligned, np.sqrt(np.mean(np.sum(noise ** 2, axis=1))) + 1e-12)
         self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
 
+    def test_real_label_evaluation_takes_an_organized_nan_padded_cloud(self):
+        # an OS1-128-like frame as ouster-ros publishes it: no-returns NaN, kept in place
+        import rosbag
+        import rospy
+        from std_msgs.msg import Header
+        from rc_eval import real_labels as rl
+        from rc_eval.cloud_io import make_cloud
+        from rc_eval.raycast import Box, Ground
+        from rc_eval.sequence import OUSTER_LAYOUT, OUSTER_POINT_STEP, make_path, sensor_for, simulate_sequence_frame
+        sensor = sensor_for("os128")
+        scene = [(Ground(-1.8), None, np.inf), (Box((12.0, 0.0, 2.0), (1.0, 8.0, 4.0)), None, np.inf)]
+        pts = simulate_sequence_frame(sensor, make_path("street", 6.0, 1.0), scene, 0, 0.0, np.random.default_rng(1))
+        self.assertTrue(np.isnan(pts["z"]).any())
+        sem = np.where(np.isnan(pts["z"]), 0, np.where(pts["z"] < -1.7, 40, 50)).astype(np.uint32)
+        with tempfile.TemporaryDirectory() as d:
+            bag = os.path.join(d, "organized.bag")
+            msg = make_cloud(pts, OUSTER_LAYOUT, Header(stamp=rospy.Time(1.0), frame_id="os"), 128, 1024,
+                             itemsize=OUSTER_POINT_STEP)
+            with rosbag.Bag(bag, "w") as b:
+                b.write(rl.TOPIC, msg, msg.header.stamp)
+            np.save(os.path.join(d, "organized_sem.npy"), sem)
+            res = rl.evaluate([bag], labellers=("defaults",))
+        got = res["labellers"]["defaults"]
+        self.assertNotIn("error", got)
+        ground = got["all"]["ground_plane"]
+        self.assertEqual(ground[1], int(np.count_nonzero(sem == 40)))  # every ground return, no NaN
+        self.assertGreater(ground[0] / ground[1], 0.9)
+
     def test_less_sharp_relay_drops_the_points_ours_labels_so(self):
         from rc_eval.less_sharp_relay import kept
         labelled = np.zeros(5, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("label", "u1")])

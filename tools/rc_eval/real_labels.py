@@ -198,8 +198,8 @@ def evaluate(bags, labellers=tuple(LABELLERS), topic=TOPIC, progress=None):
                         raise RuntimeError("%s: %d labelled clouds for %d input clouds" % (
                             os.path.basename(b), len(got), len(fr)))
                     for (name, xyz, sem), a in zip(fr, got):
-                        if len(a) != len(sem) or not np.array_equal(
-                                np.stack([a["x"], a["y"], a["z"]], axis=1).astype(np.float64), xyz):
+                        if len(a) != len(sem) or not np.array_equal(  # (an organized cloud's no-returns: NaN)
+                                np.stack([a["x"], a["y"], a["z"]], axis=1).astype(np.float64), xyz, equal_nan=True):
                             raise RuntimeError("%s: the labelled cloud is not the input's points in the "
                                                "input's order" % name)
                         counts[name] = frame_counts(a["label"], sem, clusters[name])
