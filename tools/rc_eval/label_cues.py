@@ -151,7 +151,8 @@ def load_sequence(data_dir):
     if not (os.path.isfile(base + ".bag") and os.path.isfile(base + "_poses.npy")):
         return None
     from .cloud_io import read_bag_clouds
-    clouds = [np.stack([c["x"], c["y"], c["z"]], 1).astype(np.float64) for _, c, _ in read_bag_clouds(base + ".bag", rl.TOPIC)]
+    clouds = [np.stack([c["x"], c["y"], c["z"]], 1).astype(np.float64)
+              for _, c, _ in read_bag_clouds(base + ".bag", rl.TOPIC)]
     return clouds, np.load(base + "_poses.npy")
 
 
@@ -269,7 +270,8 @@ def main(argv):
                 frames.append((name, sem, a, rl.thin_clusters(xyz, sem), c))
     unknown = [w for w in args.without if w not in frames[0][4]]
     if unknown:
-        print("label_cues: no cue named %s; the cues: %s" % (", ".join(map(repr, unknown)), ", ".join(map(repr, frames[0][4]))))
+        print("label_cues: no cue named %s; the cues: %s" % (", ".join(map(repr, unknown)),
+                                                             ", ".join(map(repr, frames[0][4]))))
         return 2
     names = [c for c in frames[0][4] if c not in args.without]
     print("| cue | AUC veg > building, among Plane | AUC veg > ground+building, among Rough |")
