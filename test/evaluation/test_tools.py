@@ -57,7 +57,8 @@ class Tools(unittest.TestCase):
         self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
 
     def test_real_label_evaluation_takes_an_organized_nan_padded_cloud(self):
-        # an OS1-128-like frame as ouster-ros publishes it: no-returns NaN, kept in place
+        # an OS1-128-like frame as ouster-ros publishes it: no-returns NaN, kept in place; its
+        # annotation as SemanticKITTI's .label files come, the instance in the upper 16 bits
         import rosbag
         import rospy
         from std_msgs.msg import Header
@@ -76,7 +77,7 @@ class Tools(unittest.TestCase):
                              itemsize=OUSTER_POINT_STEP)
             with rosbag.Bag(bag, "w") as b:
                 b.write(rl.TOPIC, msg, msg.header.stamp)
-            np.save(os.path.join(d, "organized_sem.npy"), sem)
+            np.save(os.path.join(d, "organized_sem.npy"), sem | np.uint32(7 << 16))  # a .label's instance bits
             res = rl.evaluate([bag], labellers=("defaults",))
         got = res["labellers"]["defaults"]
         self.assertNotIn("error", got)

@@ -1,5 +1,5 @@
 """Labels on real scans against human annotations (issue 29): KITTI sequence 00 frames with their
-SemanticKITTI classes (`<bag>_sem.npy`, one uint16 class per point, aligned 1:1 with the bag's
+SemanticKITTI classes (`<bag>_sem.npy`, one class per point, aligned 1:1 with the bag's
 cloud), scored for the defaults, the paper as written and PCL PCA-Curv (k = 10) side by side.
 
 Labels come from the package's own executables (runner.py: process_bag, baseline_labels), whose
@@ -159,7 +159,8 @@ def ahead(key, a, b):
 def load_frames(bag, topic):
     """[(name, xyz, sem)] of a bag, one per cloud; the annotation is split over the bag's clouds
     in order (the shared bags hold one cloud each)."""
-    sem = np.load(os.path.splitext(bag)[0] + "_sem.npy")
+    # (a SemanticKITTI .label as it comes holds the instance in the upper 16 bits: the class is below)
+    sem = np.load(os.path.splitext(bag)[0] + "_sem.npy").astype(np.uint32) & 0xFFFF
     clouds = read_bag_clouds(bag, topic)
     if sum(len(a) for _, a, _ in clouds) != len(sem):
         raise RuntimeError("%s: %d annotated points for %d cloud points" % (
