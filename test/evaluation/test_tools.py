@@ -84,6 +84,26 @@ class Tools(unittest.TestCase):
         ground = got["all"]["ground_plane"]
         self.assertEqual(ground[1], int(np.count_nonzero(sem == 40)))  # every ground return, no NaN
         self.assertGreater(ground[0] / ground[1], 0.9)
+        # the returns unorganized, their ring in a field of another name: read with sensor_params
+        hit = np.isfinite(pts["z"])
+        layout = [("x", 0, "<f4"), ("y", 4, "<f4"), ("z", 8, "<f4"), ("ring_index", 12, "<u2")]
+        with tempfile.TemporaryDirectory() as d:
+            bag = os.path.join(d, "unorganized.bag")
+            fields = {"x": pts["x"][hit], "y": pts["y"][hit], "z": pts["z"][hit], "ring_index": pts["ring"][hit]}
+            msg = make_cloud(fields, layout, Header(stamp=rospy.Time(1.0), frame_id="os"), 1, int(hit.sum()))
+            with rosbag.Bag(bag, "w") as b:
+                b.write(rl.TOPIC, msg, msg.header.stamp)
+            np.save(os.path.join(d, "unorganized_sem.npy"), sem[hit])
+            self.assertIn("error", rl.evaluate([bag], labellers=("defaults",))["labellers"]["defaults"])
+            res = rl.evaluate([bag], labellers=("defaults",), sensor_params={"ring_field": "ring_index"})
+        self.assertEqual(res["labellers"]["defaults"]["all"]["ground_plane"], ground)
+
+    def test_evaluate_real_params_for_another_sensor(self):
+        from rc_eval import real_labels as rl
+        a = rl.parse(["--param", "ring_field=ring_index", "--param", "time_unit=ns"])
+        self.assertEqual(a.param, {"ring_field": "ring_index", "time_unit": "ns"})
+        with self.assertRaises(SystemExit):
+            rl.parse(["--param", "ring_field"])
 
     def test_less_sharp_relay_drops_the_points_ours_labels_so(self):
         from rc_eval.less_sharp_relay import kept

@@ -175,7 +175,7 @@ def load_frames(bag, topic):
     return out
 
 
-def evaluate(bags, labellers=tuple(LABELLERS), topic=TOPIC, progress=None):
+def evaluate(bags, labellers=tuple(LABELLERS), topic=TOPIC, progress=None, sensor_params=None):
     """{"frames": [names], "labellers": {name: {"counts": {frame: counts}, "all": counts,
     "seconds": tool wall time} or {"error": text}}}. Every labeller labels the same frames."""
     frames, per_bag = [], []
@@ -188,6 +188,8 @@ def evaluate(bags, labellers=tuple(LABELLERS), topic=TOPIC, progress=None):
     with tempfile.TemporaryDirectory() as work:
         for lab in labellers:
             method, params = LABELLERS[lab]
+            if method == "ours" and sensor_params:  # (what describes the sensor holds for both modes)
+                params = dict(params, **sensor_params)
             counts, seconds = {}, 0.0
             try:
                 for i, (b, fr) in enumerate(zip(bags, per_bag)):
@@ -310,7 +312,15 @@ def parse(argv):
     p.add_argument("--json", help="also write the numbers (and counts) as JSON to this file")
     p.add_argument("--labellers", nargs="+", choices=list(LABELLERS), default=list(LABELLERS))
     p.add_argument("--topic", default=TOPIC)
-    return p.parse_args(argv)
+    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="a key of config/ring_curvature.yaml for ours' labellers (defaults, paper), "
+                        "e.g. ring_field=ring_index for another sensor's layout (repeatable)")
+    a = p.parse_args(argv)
+    bad = [kv for kv in a.param if "=" not in kv]
+    if bad:
+        p.error("--param takes KEY=VALUE, not %s" % ", ".join(bad))
+    a.param = dict(kv.split("=", 1) for kv in a.param)
+    return a
 
 
 def main(argv):
@@ -322,7 +332,7 @@ def main(argv):
               "(the shared real frames exist only on the team's machines)" % data)
         return 0
     t0 = time.monotonic()
-    res = evaluate(bags, a.labellers, a.topic, Progress(len(bags) * len(a.labellers), "evaluate_real"))
+    res = evaluate(bags, a.labellers, a.topic, Progress(len(bags) * len(a.labellers), "evaluate_real"), a.param)
     print(markdown(res), end="")
     print("\n(%d frame(s), %.0f s)" % (len(res["frames"]), time.monotonic() - t0))
     if a.json:
