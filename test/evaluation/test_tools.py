@@ -105,6 +105,33 @@ class Tools(unittest.TestCase):
         with self.assertRaises(SystemExit):
             rl.parse(["--param", "ring_field"])
 
+    def test_mixed_front_ends_split_the_sets_between_stock_and_ours(self):
+        import xml.etree.ElementTree as ET
+        from rc_eval.slam_frontends import mixed_command, mixed_launch
+
+        def remaps(path):
+            nodes = {n.get("name"): n for n in ET.parse(path).getroot().findall("node")}
+            ours = nodes["ours_frontend"]
+            deskew = [q.get("value") for q in ours.findall("param") if q.get("name") == "deskew_odometry"]
+            self.assertEqual(deskew, ["/aft_mapped_to_init"] if "all-but" in path else [])  # as deskew below
+            return [{r.get("from"): r.get("to") for r in n.findall("remap")} for n in (nodes["stock_frontend"], ours)]
+        with tempfile.TemporaryDirectory() as d:
+            stock, ours = remaps(mixed_launch("edges", None, False, d))
+            self.assertEqual(ours["~loam/sharp"], "/laser_cloud_sharp")
+            self.assertEqual(ours["~loam/less_sharp"], "/laser_cloud_less_sharp")
+            self.assertTrue(ours["~loam/flat"].startswith("/unused/"))
+            self.assertTrue(stock["/laser_cloud_sharp"].startswith("/unused/"))
+            self.assertNotIn("/laser_cloud_flat", stock)  # stock's planes go to A-LOAM
+            stock, ours = remaps(mixed_launch("all-but-less-sharp", None, True, d, ("rough",)))
+            self.assertTrue(ours["~loam/less_sharp"].startswith("/unused/"))
+            self.assertEqual(ours["~loam/cloud"], "/velodyne_cloud_2")
+            # stock's less sharp set goes to the relay, which reads ours' labelled cloud
+            self.assertEqual(stock["/laser_cloud_less_sharp"], "/unused/stock_less_sharp_all")
+            self.assertEqual(ours["~labelled_points"], "/unused/ours_labelled")
+            cmd = mixed_command("mix-stock-less-sharp", None, True, d, ("rough", "none"))
+            self.assertEqual(cmd[:2], ["bash", "-c"])
+            self.assertEqual(cmd[-4:], ["/unused/ours_labelled", "/laser_cloud_less_sharp", "4", "0"])
+
     def test_less_sharp_relay_drops_the_points_ours_labels_so(self):
         from rc_eval.less_sharp_relay import kept
         labelled = np.zeros(5, dtype=[("x", "f4"), ("y", "f4"), ("z", "f4"), ("label", "u1")])
