@@ -130,6 +130,7 @@ struct Params
   int loam_less_sharp_per_sector = 20;    ///< less sharp (these hold the sharp ones)
   int loam_flat_per_sector = 4;           ///< flattest Plane points per sector
   int loam_suppression = 5;               ///< a chosen point blocks this many ring neighbours each side
+  float loam_rough_jump = 0.1f;           ///< Rough points at a depth jump (D above this) are less sharp too (0: none)
   float loam_less_flat_voxel = 0.2f;      ///< [m] less flat: one Plane point per voxel and ring (0: all)
   float loam_occlusion_ratio = 0.1f;      ///< depth jump / nearer range above which the far side is occluded
   float loam_parallel_ratio = 0.02f;      ///< range steps / range to both neighbours above which the surface runs along the beam

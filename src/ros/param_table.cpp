@@ -104,6 +104,7 @@ Status forEachParam(Params& p, ParamVisitor& v)
       v.visit("loam_sectors", p.loam_sectors) && v.visit("loam_sharp_per_sector", p.loam_sharp_per_sector) &&
       v.visit("loam_less_sharp_per_sector", p.loam_less_sharp_per_sector) &&
       v.visit("loam_flat_per_sector", p.loam_flat_per_sector) && v.visit("loam_suppression", p.loam_suppression) &&
+      v.visit("loam_rough_jump", p.loam_rough_jump) &&
       v.visit("loam_less_flat_voxel", p.loam_less_flat_voxel) &&
       v.visit("loam_occlusion_ratio", p.loam_occlusion_ratio) &&
       v.visit("loam_parallel_ratio", p.loam_parallel_ratio) && v.visit("scan_period", p.scan_period) &&

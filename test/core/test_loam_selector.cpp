@@ -94,9 +94,10 @@ TEST(LoamFeatures, SharpEqualsLessSharpWhenTheQuotasMatch)
   EXPECT_EQ(run.loam.sharp, run.loam.less_sharp);
 }
 
-TEST(LoamFeatures, NoRoughPointInAnySet)
+TEST(LoamFeatures, RoughPointsOnlyAtJumpsAndOnlyLessSharp)
 {
-  // A hedge of random depth in front of a wall: Rough points, which must not become features.
+  // A hedge of random depth in front of a wall: Rough points, which must not become features but
+  // for their depth jumps, which are less sharp.
   RayScene s;
   s.boxes.push_back({12.0, 0.0, -1.8, 4.0, 0.2, 12.0, 0.0});
   // add the hedge by perturbing a scan: random range over a sector
@@ -127,6 +128,29 @@ TEST(LoamFeatures, NoRoughPointInAnySet)
   std::printf("hedge: %zu Rough points\n", rough);
   EXPECT_GT(rough, 300u);  // else the test says nothing
   checkSets(pipe, L, P);
+  const auto roughIn = [&](const std::vector<std::uint32_t>& v) {
+    std::size_t n = 0;
+    for (const std::uint32_t p : v) n += pipe.gridLabels()[p] == Label::Rough;
+    return n;
+  };
+  const std::size_t outlines = roughIn(L.less_sharp);
+  std::printf("hedge: %zu Rough points at jumps in less sharp of %zu\n", outlines, L.less_sharp.size());
+  EXPECT_GT(outlines, 10u);
+  EXPECT_LT(outlines, rough / 2);  // the jumps, not the whole hedge
+  EXPECT_EQ(roughIn(L.sharp) + roughIn(L.flat) + roughIn(L.less_flat), 0u);
+
+  // Off: no Rough point in any set, and the Edge/Corner picks are unchanged.
+  Params off = P;
+  off.loam_rough_jump = 0.0f;
+  Pipeline pipe_off(off);
+  ASSERT_TRUE(pipe_off.process(c.view(), r).ok);
+  LoamFeatures L0;
+  pipe_off.selectLoamFeatures(c.view(), L0);
+  checkSets(pipe_off, L0, off);
+  EXPECT_EQ(roughIn(L0.less_sharp), 0u);
+  EXPECT_EQ(L0.less_sharp.size() + outlines, L.less_sharp.size());
+  EXPECT_EQ(L0.sharp, L.sharp);
+  EXPECT_EQ(L0.flat, L.flat);
 }
 
 // --- 2. neighbour suppression -----------------------------------------------------------------

@@ -95,7 +95,23 @@ inline MaxCounts checkSets(const Pipeline& pipe, const LoamFeatures& L, const Pa
 {
   const ScanGrid& g = pipe.grid();
   const std::vector<Label>& labels = pipe.gridLabels();
+  const std::vector<float>& jump = pipe.features().discontinuity;
   EXPECT_EQ(L.sweep_time.size(), g.size());
+  // Less sharp: the Edge/Corner picks (under the quotas below) and every Rough point at a depth
+  // jump (above loam_rough_jump, whatever the quotas).
+  const auto outline = [&](std::uint32_t p) {
+    return P.loam_rough_jump > 0.0f && labels[p] == Label::Rough && jump[p] > P.loam_rough_jump;
+  };
+  std::vector<std::uint32_t> picked;
+  std::size_t outlines = 0;
+  for (const std::uint32_t p : L.less_sharp)
+    if (p < g.size() && labels[p] == Label::Rough)
+      ++outlines;
+    else
+      picked.push_back(p);
+  std::size_t want_outlines = 0;
+  for (std::uint32_t p = 0; p < g.size(); ++p) want_outlines += outline(p);
+  EXPECT_EQ(outlines, want_outlines) << "less sharp holds not every Rough point at a jump";
   const std::vector<const std::vector<std::uint32_t>*> sets = {&L.sharp, &L.less_sharp, &L.flat, &L.less_flat};
   const char* names[] = {"sharp", "less_sharp", "flat", "less_flat"};
   for (std::size_t i = 0; i < sets.size(); ++i)
@@ -115,6 +131,11 @@ inline MaxCounts checkSets(const Pipeline& pipe, const LoamFeatures& L, const Pa
       EXPECT_GE(n, last_ring) << names[i] << " not in ring order at position " << p;
       last_ring = n;
       const Label l = labels[p];
+      if (i == 1 && l == Label::Rough)
+      {
+        EXPECT_TRUE(outline(p)) << "less sharp Rough point " << p << " with discontinuity " << jump[p];
+        continue;
+      }
       EXPECT_NE(l, Label::Rough) << names[i];
       if (i < 2)
         EXPECT_TRUE(isSharpLabel(l)) << names[i] << " point " << p << " labelled " << labelName(l);
@@ -140,7 +161,7 @@ inline MaxCounts checkSets(const Pipeline& pipe, const LoamFeatures& L, const Pa
     }
   };
   bin(L.sharp, sharp);
-  bin(L.less_sharp, less);
+  bin(picked, less);
   bin(L.flat, flat);
   MaxCounts mc;
   for (const auto& e : sharp)

@@ -95,6 +95,7 @@ void LoamSelector::select(const PointCloudView& view, const ScanGrid& grid, cons
       }
       pick(grid, s, sharp_, params.loam_less_sharp_per_sector, params.loam_suppression, out.less_sharp, &out.sharp,
            params.loam_sharp_per_sector);
+      roughJumps(lo, hi, f, labels, params.loam_rough_jump, out.less_sharp);
       flat_.clear();
       for (std::uint32_t p = lo; p < hi; ++p)
       {
@@ -106,6 +107,16 @@ void LoamSelector::select(const PointCloudView& view, const ScanGrid& grid, cons
     lessFlat(grid, s.b, s.K, labels, params, out);
   }
   out.degeneracy = assessDegeneracy(grid, labels, out, params);
+}
+
+void LoamSelector::roughJumps(std::uint32_t lo, std::uint32_t hi, const Features& f, const std::vector<Label>& labels,
+                              float min_jump, std::vector<std::uint32_t>& out)
+{
+  // No exclusions here: nearly every jump sample of foliage steps steeply to both neighbours (the
+  // grazing test), and the map's line fit keeps only the ones that line up over scans.
+  if (min_jump <= 0.0f) return;
+  for (std::uint32_t p = lo; p < hi; ++p)
+    if (labels[p] == Label::Rough && f.discontinuity[p] > min_jump) out.push_back(p);
 }
 
 void LoamSelector::exclusions(const ScanGrid& grid, const Params& params)

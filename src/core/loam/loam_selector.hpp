@@ -1,7 +1,8 @@
 // LOAM's feature sets from the core's labels: per ring and sector the sharpest Edge/Corner and
 // the flattest Plane points, with LOAM's rules (neighbour suppression, no occluded side of a
 // depth jump, no surface running along the beam) and a per-ring voxel grid for the less flat set.
-// The labels replace LOAM's curvature thresholds, so foliage (Rough) gives no landmarks at all.
+// The labels replace LOAM's curvature thresholds: foliage and clutter (Rough) give no points to
+// match frame to frame, only their depth jumps (outlines, gaps) as map landmarks (less sharp).
 // Reads the grid only (and the time field of the points it places in the sweep): no extra pass
 // over the input, O(n) apart from the partial sorts of a few candidates per sector.
 #pragma once
@@ -33,6 +34,9 @@ private:
   void pick(const ScanGrid& grid, const RingSpan& s, std::vector<std::uint64_t>& cand, int quota, int suppression,
             std::vector<std::uint32_t>& out, std::vector<std::uint32_t>* also, int also_quota);
   void block(const ScanGrid& grid, const RingSpan& s, std::uint32_t k, int suppression);
+  /// Appends the Rough positions in [lo, hi) whose discontinuity exceeds min_jump (0: none).
+  static void roughJumps(std::uint32_t lo, std::uint32_t hi, const Features& f, const std::vector<Label>& labels,
+                         float min_jump, std::vector<std::uint32_t>& out);
   void lessFlat(const ScanGrid& grid, std::uint32_t b, std::uint32_t K, const std::vector<Label>& labels,
                 const Params& params, LoamFeatures& out);
   void sweepTimes(const PointCloudView& view, const ScanGrid& grid, const Params& params, LoamFeatures& out);
