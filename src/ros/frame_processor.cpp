@@ -43,7 +43,7 @@ struct FrameProcessor::Impl
   MarkerScratch marker_scratch;  // (grown to the largest primitive once, not allocated per frame)
   LoamFeatures loam;
   sensor_msgs::PointCloud2Ptr loam_cloud, sharp, less_sharp, flat, less_flat;
-  bool deskew = false;
+  bool deskew = false, middle = false;
   SweepMotion motion;
   SweepDeskew deskewer;
 };
@@ -60,6 +60,8 @@ void FrameProcessor::setSweepMotion(const SweepMotion* motion)
   impl_->deskew = motion != nullptr;
   if (motion) impl_->motion = *motion;
 }
+
+void FrameProcessor::setSweepMiddleReference(bool on) { impl_->middle = on; }
 
 Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out, const OutputSelection& select)
 {
@@ -112,10 +114,19 @@ Status FrameProcessor::process(const sensor_msgs::PointCloud2& msg, Outputs& out
     const LoamPointFormat fmt = P.loam_point_format;
     // (the input format copies the records: its points stay as the sensor gave them)
     f.deskewed = m.deskew && fmt == LoamPointFormat::Xyzi;
-    if (f.deskewed) m.deskewer.prepare(m.motion, P.scan_period, stampInSweep(msg.header.stamp, m.loam, P.scan_period));
+    const double at_stamp = stampInSweep(msg.header.stamp, m.loam, P.scan_period);
+    const bool middle = m.middle && fmt == LoamPointFormat::Xyzi;
+    const double reference = middle ? 0.5 * P.scan_period : at_stamp;
+    if (f.deskewed) m.deskewer.prepare(m.motion, P.scan_period, reference);
     const SweepDeskew* dk = f.deskewed ? &m.deskewer : nullptr;
+    // (a stamp that would fall before the epoch, from a zero stamp, stays: ros::Time throws there)
+    const ros::Duration shift(reference - at_stamp);
+    const bool restamp = middle && msg.header.stamp.toSec() + shift.toSec() >= 0.0;
+    const ros::Time stamp = restamp ? msg.header.stamp + shift : msg.header.stamp;
     const auto cloud = [&](const std::vector<std::uint32_t>* set, sensor_msgs::PointCloud2Ptr& keep) {
-      return keep = makeLoamCloud(msg, g, m.loam, set, fmt, std::move(keep), dk);
+      keep = makeLoamCloud(msg, g, m.loam, set, fmt, std::move(keep), dk);
+      keep->header.stamp = stamp;
+      return keep;
     };
     if (select.loam_cloud) out.loam_cloud = cloud(nullptr, m.loam_cloud);
     if (select.sharp) out.sharp = cloud(&m.loam.sharp, m.sharp);

@@ -79,13 +79,22 @@ void RingCurvatureNodelet::onInit()
       throw std::runtime_error(std::string("ring_curvature: invalid parameter ") + name);
     }
   }
+  const std::string reference = pnh.param<std::string>("deskew_reference", "middle");
+  if (reference != "middle" && reference != "stamp")
+  {
+    NODELET_FATAL("parameter '%s' must be middle or stamp (got '%s')", pnh.resolveName("deskew_reference").c_str(),
+                  reference.c_str());
+    throw std::runtime_error("ring_curvature: invalid parameter deskew_reference");
+  }
   if (!odometry_topic.empty())
   {
+    processor_->setSweepMiddleReference(reference == "middle");
     // always subscribed: a few poses a second, and the history must be there when clouds come
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(odometry_topic, 10,
                                                  [this](const nav_msgs::OdometryConstPtr& o) { odometry_.add(*o); });
     if (pnh.param("deskew_use_tf", false)) mounting_ = std::make_unique<LidarMounting>(nh);
-    NODELET_INFO("LOAM clouds deskewed with the motion on %s%s", nh.resolveName(odometry_topic).c_str(),
+    NODELET_INFO("LOAM clouds deskewed to the sweep's %s with the motion on %s%s",
+                 reference == "middle" ? "middle (and stamped so)" : "stamp", nh.resolveName(odometry_topic).c_str(),
                  mounting_ ? ", moved to the cloud's frame with tf" : " (its child frame taken as the LiDAR's)");
   }
 

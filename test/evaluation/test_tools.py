@@ -55,6 +55,18 @@ class Tools(unittest.TestCase):
         _, _, _, ate_aligned = sb.trajectory_errors(gt, est)
         self.assertLess(ate_aligned, np.sqrt(np.mean(np.sum(noise ** 2, axis=1))) + 1e-12)
         self.assertGreater(ate_aligned, 0.5 * 0.05 * np.sqrt(3.0))
+        # Poses stamped half a frame later (ours, referred to the sweep's middle) are compared
+        # with the ground truth there: an exact estimate has no error, one at the frame's own
+        # stamp has the half step's, and the last one still counts (past the last row).
+        mid = {gt[i, 0] + 0.05: (0.5 * (pos[i] + pos[min(i + 1, n - 1)]) if i + 1 < n
+                                 else pos[i] + 0.5 * (pos[i] - pos[i - 1]), [0.0, 0.0, 0.0, 1.0]) for i in range(n)}
+        ate, drift, m, ate_aligned = sb.trajectory_errors(gt, mid)
+        self.assertEqual(m, n)
+        self.assertLess(ate, 1e-9)
+        self.assertLess(ate_aligned, 1e-9)
+        late = {gt[i, 0] + 0.05: (pos[i], [0.0, 0.0, 0.0, 1.0]) for i in range(n)}
+        ate, _, _, _ = sb.trajectory_errors(gt, late)
+        self.assertGreater(ate, 0.1)  # half a step of 0.5 m per axis, less the first pose's share
 
     def test_real_label_evaluation_takes_an_organized_nan_padded_cloud(self):
         # an OS1-128-like frame as ouster-ros publishes it: no-returns NaN, kept in place; its

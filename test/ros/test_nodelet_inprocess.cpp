@@ -217,19 +217,24 @@ TEST(NodeletInProcess, RingTypesReorderedFieldsAndABadFrame)
 
 TEST(NodeletInProcess, InvalidParameterFailsLoudlyAtStartup)
 {
-  ros::param::set("/rc_bad/smoothness_window", -3);
-  Manager m;
-  bool loaded = false;
-  try
+  // a core parameter, and a nodelet one
+  for (const auto& [key, value] : {std::pair<std::string, XmlRpc::XmlRpcValue>{"smoothness_window", -3},
+                                   std::pair<std::string, XmlRpc::XmlRpcValue>{"deskew_reference", "start"}})
   {
-    loaded = static_cast<bool>(m.load("/rc_bad", "/input_bad"));
+    ros::param::set("/rc_bad/" + key, value);
+    Manager m;
+    bool loaded = false;
+    try
+    {
+      loaded = static_cast<bool>(m.load("/rc_bad", "/input_bad"));
+    }
+    catch (const std::exception&)
+    {
+      loaded = false;  // onInit throws (after NODELET_FATAL naming the parameter)
+    }
+    EXPECT_FALSE(loaded) << key;
+    ros::param::del("/rc_bad");
   }
-  catch (const std::exception&)
-  {
-    loaded = false;  // onInit throws (after NODELET_FATAL naming the parameter)
-  }
-  EXPECT_FALSE(loaded);
-  ros::param::del("/rc_bad");
 }
 
 TEST(NodeletInProcess, FieldListsAsYamlListsOrBracketedStrings)

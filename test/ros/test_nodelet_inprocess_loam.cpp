@@ -190,12 +190,14 @@ TEST(NodeletInProcess, LoamOutputsSortedByRingWithSweepTimes)
   EXPECT_NEAR(1.0, norm, 1e-6);
 }
 
-// Deskew (~deskew_odometry): with two recent poses the LOAM clouds move each point by the motion
-// up to its firing time (the sweep's start is the stamp here); a frame far from the last pose is
-// left as it is and says so on ~frame_stats.
+// Deskew (~deskew_odometry) to the stamp (~deskew_reference: stamp): with two recent poses the
+// LOAM clouds move each point by the motion up to its firing time (the sweep's start is the stamp
+// here) and keep the stamp; a frame far from the last pose is left as it is and says so on
+// ~frame_stats.
 TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
 {
   Manager m;
+  ros::param::set("/rc_deskew/deskew_reference", "stamp");
   DeskewPair d(m, "/rc_deskew", "/input_deskew", "/odom_deskew");
   ASSERT_TRUE(d.loaded && d.connected());
   const ros::Time stamp = frames()[0]->header.stamp;
@@ -222,6 +224,45 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
   EXPECT_FALSE(d.stats->deskewed);
   ASSERT_EQ(d.got[0]->width, d.got[1]->width);
   EXPECT_EQ(0, std::memcmp(d.got[0]->data.data(), d.got[1]->data.data(), d.got[0]->data.size()));
+  EXPECT_EQ(d.got[0]->header.stamp, stamp + ros::Duration(10.0));
+}
+
+// Deskew to the sweep's middle (the default): each point moves by the motion between its firing
+// and the middle of the sweep, and the clouds carry that time; a frame that cannot be deskewed
+// carries it too (its points lie about the middle of the sweep on average), so that the first
+// frames, sent before any pose exists, agree with the later ones.
+TEST(NodeletInProcess, LoamCloudsDeskewedToTheSweepsMiddleAndStampedSo)
+{
+  Manager m;
+  DeskewPair d(m, "/rc_middle", "/input_middle", "/odom_middle");
+  ASSERT_TRUE(d.loaded && d.connected());
+  const ros::Time stamp = frames()[0]->header.stamp;
+  const ros::Duration half(0.05);  // scan_period 0.1 s; the sweep starts at the stamp here
+  d.drive(stamp);
+  ASSERT_TRUE(d.publishAndWait(stamp));
+  {
+    std::lock_guard<std::mutex> l(d.mutex);
+    EXPECT_TRUE(d.stats->deskewed);
+    // (to a microsecond: the sweep's start is the first time field value, a float)
+    EXPECT_NEAR((d.got[0]->header.stamp - (stamp + half)).toSec(), 0.0, 1e-6);
+    EXPECT_EQ(d.got[1]->header.stamp, stamp) << "the plain nodelet's clouds keep the input's stamp";
+    std::size_t before = 0, after = 0;
+    d.eachDifference([&](std::uint32_t k, float dx, float dy, float dz, float t) {
+      // points fired before the middle move forward, those after it back
+      EXPECT_NEAR(dx, 6.0f * (t - 0.05f), 2e-3f) << "at " << k;
+      EXPECT_NEAR(dy, 0.0f, 1e-3f);
+      EXPECT_NEAR(dz, 0.0f, 1e-3f);
+      before += t < 0.04f ? 1 : 0;
+      after += t > 0.06f ? 1 : 0;
+    });
+    EXPECT_GT(before, 100u);
+    EXPECT_GT(after, 100u);
+  }
+  ASSERT_TRUE(d.publishAndWait(stamp + ros::Duration(10.0)));
+  std::lock_guard<std::mutex> l(d.mutex);
+  EXPECT_FALSE(d.stats->deskewed);
+  EXPECT_EQ(d.got[0]->data, d.got[1]->data);
+  EXPECT_NEAR((d.got[0]->header.stamp - (stamp + ros::Duration(10.0) + half)).toSec(), 0.0, 1e-6);
 }
 
 // Deskew with the odometry of a base (~deskew_use_tf): no deskew until tf has the LiDAR's
@@ -231,6 +272,7 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithBaseOdometryThroughTf)
 {
   Manager m;
   ros::param::set("/rc_base/deskew_use_tf", true);
+  ros::param::set("/rc_base/deskew_reference", "stamp");
   DeskewPair d(m, "/rc_base", "/input_base", "/odom_base");
   ASSERT_TRUE(d.loaded && d.connected());
   const ros::Time stamp = frames()[0]->header.stamp;

@@ -30,7 +30,8 @@ def mixed_launch(ours_sets, params, deskew, out, without=()):
     /velodyne_points; ours publishes its `ours_sets` ("edges": sharp and less sharp; "planes":
     flat, less flat and the full cloud; "all-but-less-sharp") on A-LOAM's topics, stock the
     others (its less sharp set to the relay when labels are to be left `without`). Ours as
-    launch/aloam_frontend.launch starts it."""
+    launch/aloam_frontend.launch starts it, but deskewed to the stamp: A-LOAM pairs the sets by
+    their stamps, and stock's are the input's."""
     ours_topics = {"edges": ("sharp", "less_sharp"), "planes": ("cloud", "flat", "less_flat"),
                    "all-but-less-sharp": ("cloud", "sharp", "flat", "less_flat")}[ours_sets]
     aloam = {"cloud": "/velodyne_cloud_2", "sharp": "/laser_cloud_sharp", "less_sharp": "/laser_cloud_less_sharp",
@@ -52,6 +53,7 @@ def mixed_launch(ours_sets, params, deskew, out, without=()):
     <param name="scan_period" value="0.1"/>
     <param name="loam_point_format" value="xyzi"/>
     <param name="queue_size" value="2"/>
+    <param name="deskew_reference" value="stamp"/>
 %s%s  </node>
 </launch>
 """ % (stock, os.path.abspath(params) if params else os.path.join(REPO, "config", "ring_curvature.yaml"),
@@ -62,17 +64,18 @@ def mixed_launch(ours_sets, params, deskew, out, without=()):
     return path
 
 
-def frontend_command(name, stub, params=None, deskew=True, out=".", without=()):
+def frontend_command(name, stub, params=None, deskew=True, out=".", without=(), reference="middle"):
     """The front end's command line. "ours" is ring_curvature's A-LOAM front end; this is the one
     place to change if launch/aloam_frontend.launch's arguments change. With stub (development
     only) "ours" runs stock ascanRegistration through the same code path. deskew: with A-LOAM's
-    mapped pose (the launch's default); off for scans the dataset has motion-compensated."""
+    mapped pose (the launch's default), to the sweep's middle or its stamp (reference); off for
+    scans the dataset has motion-compensated."""
     if name in MIXED:
         return mixed_command(name, params, deskew, out, without)
     if name == "stock" or stub:
         return ["rosrun", "aloam_velodyne", "ascanRegistration"]
     cmd = ["roslaunch", "--wait", "ring_curvature", "aloam_frontend.launch", "input:=/velodyne_points"]
-    cmd += [] if deskew else ["deskew:=false"]
+    cmd += ["deskew_reference:=" + reference] if deskew else ["deskew:=false"]
     return cmd + (["params:=" + os.path.abspath(params)] if params else [])
 
 

@@ -26,6 +26,28 @@ def rigid_fit(src, dst):
     return R, md - R @ ms
 
 
+def gt_at(gt, stamps):
+    """The ground truth (n >= 2, 8) TUM rows at `stamps`, interpolated between its own rows (and
+    past the last, by its last step): linear in position, normalized linear in the quaternion
+    (frames 0.1 s apart turn by a few degrees at most). A stamp of its own gives its row; an
+    estimate stamped with the sweep's middle gets the pose there."""
+    import numpy as np
+    t = gt[:, 0]
+    q = gt[:, 4:8].copy()
+    for i in range(1, len(q)):  # one hemisphere, so that neighbours interpolate the short way
+        if np.dot(q[i], q[i - 1]) < 0:
+            q[i] = -q[i]
+    out = np.empty((len(stamps), 8))
+    for k, s in enumerate(stamps):
+        j = int(np.clip(np.searchsorted(t, s, side="right") - 1, 0, len(t) - 2))
+        f = (s - t[j]) / (t[j + 1] - t[j])
+        out[k, 0] = s
+        out[k, 1:4] = gt[j, 1:4] + f * (gt[j + 1, 1:4] - gt[j, 1:4])
+        qk = q[j] + f * (q[j + 1] - q[j])
+        out[k, 4:8] = qk / np.linalg.norm(qk)
+    return out
+
+
 def trajectory_errors(gt, est):
     """gt: (n, 8) TUM rows; est: {stamp: (t(3), q(4))}. Two ATEs, position RMSE over the frames
     that have an estimate: `ate` with the estimate aligned by the rigid transform that maps its
@@ -35,9 +57,12 @@ def trajectory_errors(gt, est):
     error of the last frame / ground-truth path length (%), first-pose aligned.
     Returns (ate, drift, n, ate_aligned)."""
     import numpy as np
-    keys = sorted(est)
-    idx = [int(np.argmin(np.abs(gt[:, 0] - s))) for s in keys]
-    pairs = [(i, est[s]) for i, s in zip(idx, keys) if abs(gt[i, 0] - s) < 1e-3]
+    last_step = gt[-1, 0] - gt[-2, 0] if len(gt) >= 2 else 0.0
+    keys = [s for s in sorted(est) if gt[0, 0] - 1e-3 <= s <= gt[-1, 0] + last_step + 1e-3]
+    if len(gt) < 2 or not keys:
+        return float("nan"), float("nan"), 0, float("nan")
+    gt = gt_at(gt, keys)
+    pairs = [(i, est[s]) for i, s in enumerate(keys)]
     if not pairs:
         return float("nan"), float("nan"), 0, float("nan")
     i0, (t0, q0) = pairs[0]

@@ -84,6 +84,10 @@ public:
   /// The sensor's motion over the next frame's sweep: its LOAM clouds (xyzi format) are then
   /// deskewed to the sensor pose at its stamp. Null: taken as they are.
   void setSweepMotion(const SweepMotion* motion);
+  /// On: the LOAM clouds (xyzi format) refer to the middle of the sweep instead of the stamp:
+  /// deskewed to the sensor pose there and stamped with that time, also in a frame that cannot be
+  /// deskewed (no motion yet), whose points lie about the middle of the sweep on average.
+  void setSweepMiddleReference(bool on);
 
   /// Counts and timings of the last successful frame.
   const FrameSummary& summary() const { return summary_; }
