@@ -99,6 +99,21 @@ struct DeskewPair
       f(k, a[0] - b[0], a[1] - b[1], a[2] - b[2], a[4] - std::floor(a[4]));
     }
   }
+  // Every point moved along x by the distance driven (6 m/s) from the reference time `ref` into
+  // the sweep to its firing, sideways and up not at all; early and late points both present.
+  void expectForwardShift(float ref) const
+  {
+    std::size_t early = 0, late = 0;
+    eachDifference([&](std::uint32_t k, float dx, float dy, float dz, float t) {
+      EXPECT_NEAR(dx, 6.0f * (t - ref), 2e-3f) << "at " << k;
+      EXPECT_NEAR(dy, 0.0f, 1e-3f);
+      EXPECT_NEAR(dz, 0.0f, 1e-3f);
+      early += t < 0.01f ? 1 : 0;
+      late += t > 0.09f ? 1 : 0;
+    });
+    EXPECT_GT(early, 100u);
+    EXPECT_GT(late, 100u);
+  }
   bool loaded = false;
   ros::Publisher pub, odom;
   std::vector<ros::Subscriber> subs;
@@ -206,17 +221,7 @@ TEST(NodeletInProcess, LoamCloudsDeskewedWithRecentOdometry)
   {
     std::lock_guard<std::mutex> l(d.mutex);
     EXPECT_TRUE(d.stats->deskewed);
-    std::size_t early = 0, late = 0;
-    d.eachDifference([&](std::uint32_t k, float dx, float dy, float dz, float t) {
-      // moved forward by the distance driven since the sweep began, sideways and up not at all
-      EXPECT_NEAR(dx, 6.0f * t, 2e-3f) << "at " << k;
-      EXPECT_NEAR(dy, 0.0f, 1e-3f);
-      EXPECT_NEAR(dz, 0.0f, 1e-3f);
-      early += t < 0.01f ? 1 : 0;
-      late += t > 0.09f ? 1 : 0;
-    });
-    EXPECT_GT(early, 100u);
-    EXPECT_GT(late, 100u);
+    d.expectForwardShift(0.0f);  // to the sweep's start
   }
   // ten seconds after the last pose: no motion model, the points as they are
   ASSERT_TRUE(d.publishAndWait(stamp + ros::Duration(10.0)));
@@ -246,17 +251,7 @@ TEST(NodeletInProcess, LoamCloudsDeskewedToTheSweepsMiddleAndStampedSo)
     // (to a microsecond: the sweep's start is the first time field value, a float)
     EXPECT_NEAR((d.got[0]->header.stamp - (stamp + half)).toSec(), 0.0, 1e-6);
     EXPECT_EQ(d.got[1]->header.stamp, stamp) << "the plain nodelet's clouds keep the input's stamp";
-    std::size_t before = 0, after = 0;
-    d.eachDifference([&](std::uint32_t k, float dx, float dy, float dz, float t) {
-      // points fired before the middle move forward, those after it back
-      EXPECT_NEAR(dx, 6.0f * (t - 0.05f), 2e-3f) << "at " << k;
-      EXPECT_NEAR(dy, 0.0f, 1e-3f);
-      EXPECT_NEAR(dz, 0.0f, 1e-3f);
-      before += t < 0.04f ? 1 : 0;
-      after += t > 0.06f ? 1 : 0;
-    });
-    EXPECT_GT(before, 100u);
-    EXPECT_GT(after, 100u);
+    d.expectForwardShift(0.05f);  // points fired before the middle move back, those after it ahead
   }
   ASSERT_TRUE(d.publishAndWait(stamp + ros::Duration(10.0)));
   std::lock_guard<std::mutex> l(d.mutex);
