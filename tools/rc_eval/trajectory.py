@@ -63,8 +63,6 @@ def trajectory_errors(gt, est):
         return float("nan"), float("nan"), 0, float("nan")
     gt = gt_at(gt, keys)
     pairs = [(i, est[s]) for i, s in enumerate(keys)]
-    if not pairs:
-        return float("nan"), float("nan"), 0, float("nan")
     i0, (t0, q0) = pairs[0]
     Rg0, tg0 = quat_to_R(gt[i0, 4:8]), gt[i0, 1:4]
     Re0 = quat_to_R(q0)

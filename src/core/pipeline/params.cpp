@@ -82,7 +82,7 @@ Status Params::validate() const
                          "(the less sharp set holds the sharp one)");
   RC_CHECK(loam_flat_per_sector, 0, 100000, "points per sector");
   RC_CHECK(loam_suppression, 0, 1000, "samples on each side");
-  RC_CHECK(loam_rough_jump, 0.0f, 10.0f, "discontinuity D, 0 = no Rough outlines");
+  RC_CHECK(loam_rough_jump, 0.0f, 10.0f, "discontinuity D, 0 = no Rough points");
   RC_CHECK(loam_less_flat_voxel, 0.0f, 100.0f, "metres, 0 = no downsampling");
   RC_CHECK(loam_occlusion_ratio, 0.0f, 10.0f, "depth jump / range");
   RC_CHECK(loam_parallel_ratio, 0.0f, 10.0f, "range step / range");
