@@ -57,10 +57,13 @@ def trajectory_errors(gt, est):
     error of the last frame / ground-truth path length (%), first-pose aligned.
     Returns (ate, drift, n, ate_aligned)."""
     import numpy as np
-    last_step = gt[-1, 0] - gt[-2, 0] if len(gt) >= 2 else 0.0
+    none = float("nan"), float("nan"), 0, float("nan")
+    if len(gt) < 2:
+        return none
+    last_step = gt[-1, 0] - gt[-2, 0]
     keys = [s for s in sorted(est) if gt[0, 0] - 1e-3 <= s <= gt[-1, 0] + last_step + 1e-3]
-    if len(gt) < 2 or not keys:
-        return float("nan"), float("nan"), 0, float("nan")
+    if not keys:
+        return none
     gt = gt_at(gt, keys)
     pairs = [(i, est[s]) for i, s in enumerate(keys)]
     i0, (t0, q0) = pairs[0]
