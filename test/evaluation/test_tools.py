@@ -28,6 +28,22 @@ def slam_benchmark():
 
 
 class Tools(unittest.TestCase):
+    def test_side_by_side_summary(self):
+        from rc_eval.frontend_timing import WARM_UP, summarize
+        stock = [100.0] * WARM_UP + [20.0, 10.0, 30.0, 40.0]
+        ours = [1.0] * WARM_UP + [10.0, 10.0, 3.0, 20.0]  # per-frame ratios 0.5, 1.0, 0.1, 0.5
+        row = summarize({}, {"stock": stock, "ours": ours}, stock[:-1], ours)
+        self.assertAlmostEqual(row["cpu_ms_stock"], 25.0)  # the warm-up frames do not count
+        self.assertAlmostEqual(row["cpu_ms_ours"], 10.0)
+        self.assertAlmostEqual(row["cpu_ratio"], 0.5)  # the median of per-frame ratios, not 10 / 25
+        self.assertAlmostEqual(row["cpu_ratio_p10"], 0.1)
+        self.assertAlmostEqual(row["cpu_ratio_p90"], 0.5)
+        # callbacks pair frame by frame up to the shorter list (stock's log may lack the last line)
+        self.assertAlmostEqual(row["cb_ratio"], 0.5)
+        self.assertAlmostEqual(row["cb_ms_stock"], 20.0)
+        empty = summarize({}, {"stock": stock[:WARM_UP], "ours": ours[:WARM_UP]}, [], [])
+        self.assertTrue(np.isnan(empty["cpu_ratio"]) and np.isnan(empty["cb_ms_ours"]))
+
     def test_slam_ate_definitions(self):
         sb = slam_benchmark()
         rng = np.random.default_rng(3)

@@ -1,0 +1,180 @@
+"""tools/slam_benchmark --frontend side-by-side: the two front ends' time on the same frames,
+measured side by side in one run so that the machine's drift cancels (as src/tools/ab_core.sh
+does for two builds of the core). Both front ends run at once, each on an input topic of its own,
+with every output subscribed; frame by frame one of them gets the frame (stock first on even
+frames, ours first on odd ones) and the next is published only once all five outputs of the
+first have arrived. Per frame and front end: CPU time of its process(es), all threads (schedstat,
+from the publish to the last output's arrival), and its own callback time (ascanRegistration's
+printed TicToc, ours' ~frame_stats callback_ms). Ours deskews as in the benchmark, here with the
+ground-truth poses as its odometry (A-LOAM's back end does not run)."""
+import os
+import re
+import statistics
+import time
+
+from rc_eval.slam_frontends import cpu_ns, frontend_pids
+
+OUTPUTS = ("/velodyne_cloud_2", "/laser_cloud_sharp", "/laser_cloud_less_sharp", "/laser_cloud_flat",
+           "/laser_cloud_less_flat")
+WARM_UP = 2  # frames not counted: buffers grow, caches fill
+SWEEP_S = 0.1
+
+
+def commands(deskew, params):
+    """Stock ascanRegistration and ours (launch/aloam_frontend.launch) on inputs of their own; both
+    publish on A-LOAM's five topics (one at a time)."""
+    stock = ["rosrun", "aloam_velodyne", "ascanRegistration", "/velodyne_points:=/side_by_side/stock_points"]
+    ours = ["roslaunch", "--wait", "ring_curvature", "aloam_frontend.launch", "input:=/side_by_side/ours_points",
+            "deskew_odometry:=/side_by_side/odometry"]
+    ours += ["deskew:=true"] if deskew else ["deskew:=false"]
+    ours += ["params:=" + os.path.abspath(params)] if params else []
+    return stock, ours
+
+
+class Arrivals:
+    """The outputs' stamps as they arrive, per front end (told apart by the publishing node)."""
+
+    def __init__(self):
+        import rospy
+        from sensor_msgs.msg import PointCloud2
+        self.seen = {"stock": {}, "ours": {}}  # front end -> topic -> last stamp
+        self.subs = [rospy.Subscriber(t, PointCloud2, self._cloud, t, queue_size=10, buff_size=1 << 26)
+                     for t in OUTPUTS]
+
+    def _cloud(self, msg, topic):
+        node = msg._connection_header.get("callerid", "")
+        fe = "stock" if node.endswith("scanRegistration") else "ours"
+        self.seen[fe][topic] = msg.header.stamp.to_sec()
+
+    def complete(self, fe, s):
+        """All five outputs of the frame stamped s (ours may stamp up to a sweep later)."""
+        got = self.seen[fe]
+        return all(t in got and s - 1e-6 <= got[t] < s + SWEEP_S for t in OUTPUTS)
+
+    def close(self):
+        for sub in self.subs:
+            sub.unregister()
+
+
+def odometry(row, frame_id="camera_init"):
+    """A ground-truth TUM row as the nav_msgs/Odometry A-LOAM's mapping publishes."""
+    import rospy
+    from nav_msgs.msg import Odometry
+    m = Odometry()
+    m.header.stamp = rospy.Time.from_sec(row[0])
+    m.header.frame_id = frame_id
+    m.child_frame_id = "aft_mapped"
+    p, q = m.pose.pose.position, m.pose.pose.orientation
+    p.x, p.y, p.z = row[1:4]
+    q.x, q.y, q.z, q.w = row[4:8]
+    return m
+
+
+def run(seq, bag, gt, deskew, procs, a, stats_recorder):
+    """One sequence side by side; the row of its figures."""
+    import rosbag
+    import rospy
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import PointCloud2
+
+    row = {"sequence": seq, "frontend": "side-by-side", "frames": 0}
+    stats_recorder.reset()
+    stock_cmd, ours_cmd = commands(deskew, a.ours_params)
+    fe = {"stock": procs.start("%s_side_by_side_stock" % seq, stock_cmd),
+          "ours": procs.start("%s_side_by_side_ours" % seq, ours_cmd)}
+    pubs = {k: rospy.Publisher("/side_by_side/%s_points" % k, PointCloud2, queue_size=2) for k in fe}
+    odom = rospy.Publisher("/side_by_side/odometry", Odometry, queue_size=10)
+    arrivals = Arrivals()
+    cpu = {"stock": [], "ours": []}
+    try:
+        def ready():
+            return (all(p.get_num_connections() > 0 for p in pubs.values())
+                    and (not deskew or odom.get_num_connections() > 0)
+                    and all(sub.get_num_connections() > 1 for sub in arrivals.subs))  # both publishers
+        end = time.time() + 60.0
+        while not ready():
+            if time.time() > end or any(p.poll() is not None for p in fe.values()):
+                row["error"] = "front ends did not come up (logs in %s)" % a.out
+                return row
+            time.sleep(0.1)
+        time.sleep(1.0)
+        stats_recorder.watch_frame_stats()
+        time.sleep(0.3)
+        pids = {"stock": frontend_pids(fe["stock"].pid, "stock", False),
+                "ours": frontend_pids(fe["ours"].pid, "ours", False)}
+        with rosbag.Bag(bag) as b:
+            for k, (_, msg, _) in enumerate(b.read_messages(topics=["/velodyne_points"])):
+                if a.max_frames and row["frames"] >= a.max_frames:
+                    break
+                s = msg.header.stamp.to_sec()
+                if deskew and k > 0:
+                    odom.publish(odometry(gt[k - 1]))  # as A-LOAM's mapping would have, a frame back
+                    time.sleep(0.002)
+                order = ("stock", "ours") if k % 2 == 0 else ("ours", "stock")
+                for name in order:
+                    c0 = cpu_ns(pids[name])
+                    pubs[name].publish(msg)
+                    deadline = time.time() + a.timeout
+                    while not arrivals.complete(name, s) and time.time() < deadline:
+                        time.sleep(0.0005)
+                    if not arrivals.complete(name, s):
+                        row["error"] = "%s gave no outputs of frame %d within %.0f s" % (name, k, a.timeout)
+                        return row
+                    cpu[name].append((cpu_ns(pids[name]) - c0) / 1e6)
+                row["frames"] += 1
+    finally:
+        arrivals.close()
+        stats_recorder.drop_stats()
+        procs.stop(keep=1)  # the roscore stays
+    stock_cb = printed_times(os.path.join(a.out, "logs", "%s_side_by_side_stock.log" % seq))
+    ours_cb = [v for _, v in sorted(stats_recorder.callback_ms.items())]
+    return summarize(row, cpu, stock_cb, ours_cb)
+
+
+def printed_times(log):
+    """ascanRegistration's 'scan registration time X ms' per frame (printed once it has exited)."""
+    try:
+        return [float(m) for m in re.findall(r"scan registration time ([0-9.]+) ms", open(log).read())]
+    except OSError:
+        return []
+
+
+def summarize(row, cpu, stock_cb, ours_cb):
+    """Medians per front end over the frames after the warm-up, and ours over stock as the median
+    and 10-90 % range of the per-frame ratios."""
+    def ratios(a, b):
+        r = sorted(x / y for x, y in zip(a[WARM_UP:], b[WARM_UP:]) if y > 0)
+        if not r:
+            return float("nan"), float("nan"), float("nan")
+        return statistics.median(r), r[int(0.1 * (len(r) - 1))], r[int(0.9 * (len(r) - 1))]
+
+    for name in ("stock", "ours"):
+        row["cpu_ms_" + name] = statistics.median(cpu[name][WARM_UP:]) if len(cpu[name]) > WARM_UP else float("nan")
+    row["cpu_ratio"], row["cpu_ratio_p10"], row["cpu_ratio_p90"] = ratios(cpu["ours"], cpu["stock"])
+    n = min(len(stock_cb), len(ours_cb))
+    row["cb_ms_stock"] = statistics.median(stock_cb[WARM_UP:n]) if n > WARM_UP else float("nan")
+    row["cb_ms_ours"] = statistics.median(ours_cb[WARM_UP:n]) if n > WARM_UP else float("nan")
+    row["cb_ratio"], row["cb_ratio_p10"], row["cb_ratio_p90"] = ratios(ours_cb[:n], stock_cb[:n])
+    return row
+
+
+def print_rows(rows):
+    print("%-14s %6s  %9s %9s  %-20s  %9s %9s  %-20s" % ("sequence", "frames", "stock cpu", "ours cpu",
+                                                         "ours/stock [p10-p90]", "stock cb", "ours cb",
+                                                         "ours/stock [p10-p90]"))
+    for r in rows:
+        if r.get("error"):
+            print("%-14s %6d  %s" % (r["sequence"], r["frames"], r["error"]))
+            continue
+        print("%-14s %6d  %9.2f %9.2f  %.3f [%.3f-%.3f]   %9.2f %9.2f  %.3f [%.3f-%.3f]" % (
+            r["sequence"], r["frames"], r["cpu_ms_stock"], r["cpu_ms_ours"], r["cpu_ratio"], r["cpu_ratio_p10"],
+            r["cpu_ratio_p90"], r["cb_ms_stock"], r["cb_ms_ours"], r["cb_ratio"], r["cb_ratio_p10"],
+            r["cb_ratio_p90"]))
+    ok = [r for r in rows if not r.get("error")]
+    if ok:
+        gm = lambda xs: statistics.geometric_mean(xs)  # noqa: E731
+        print("geometric mean of ours/stock: CPU %.3f, callback %.3f" % (
+            gm([r["cpu_ratio"] for r in ok]), gm([r["cb_ratio"] for r in ok])))
+    print("cpu: the front end's processes' CPU time per frame (all threads, publish to last output); "
+          "cb: its own callback time\n(ascanRegistration's TicToc, ours' ~frame_stats callback_ms); medians after "
+          "%d warm-up frames; ratios: median of the per-frame ratios." % WARM_UP)
