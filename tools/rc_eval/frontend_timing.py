@@ -1,12 +1,12 @@
 """tools/slam_benchmark --frontend side-by-side: the two front ends' time on the same frames,
 measured side by side in one run so that the machine's drift cancels (as src/tools/ab_core.sh
-does for two builds of the core). Both front ends run at once, each on an input topic of its own,
-with every output subscribed; frame by frame one of them gets the frame (stock first on even
-frames, ours first on odd ones) and the next is published only once all five outputs of the
-first have arrived. Per frame and front end: CPU time of its process(es), all threads (schedstat,
-from the publish to the last output's arrival), and its own callback time (ascanRegistration's
-printed TicToc, ours' ~frame_stats callback_ms). Ours deskews as in the benchmark, here with the
-ground-truth poses as its odometry (A-LOAM's back end does not run)."""
+does for two builds of the core). Both front ends are up throughout, each on an input topic of
+its own, with every output subscribed; each frame goes to one of them, and once its five outputs
+have arrived, to the other (stock first on even frames, ours first on odd ones). Per frame and
+front end: CPU time of its process(es), all threads (schedstat, from the publish to the last
+output's arrival), and its own callback time (ascanRegistration's printed TicToc, ours'
+~frame_stats callback_ms). Ours deskews as in the benchmark, here with the ground-truth poses as
+its odometry (A-LOAM's back end does not run)."""
 import os
 import re
 import statistics
