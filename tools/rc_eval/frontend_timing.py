@@ -12,12 +12,11 @@ import re
 import statistics
 import time
 
-from rc_eval.slam_frontends import cpu_ns, frontend_pids
+from rc_eval.slam_frontends import SWEEP_S, cpu_ns, frontend_pids
 
 OUTPUTS = ("/velodyne_cloud_2", "/laser_cloud_sharp", "/laser_cloud_less_sharp", "/laser_cloud_flat",
            "/laser_cloud_less_flat")
 WARM_UP = 2  # frames not counted: buffers grow, caches fill
-SWEEP_S = 0.1
 
 
 def commands(deskew, params):

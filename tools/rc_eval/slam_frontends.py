@@ -11,6 +11,7 @@ OURS_LAUNCH = os.path.join(REPO, "launch", "aloam_frontend.launch")
 # and the other's plane sets (flat, less flat) and full cloud; which of ours' sets makes a difference.
 MIXED = {"mix-ours-edges": "edges", "mix-ours-planes": "planes", "mix-stock-less-sharp": "all-but-less-sharp"}
 LABELS = ("none", "plane", "edge", "corner", "rough")  # ours' label values 0-4
+SWEEP_S = 0.1  # every sequence's sensor turns at 10 Hz
 
 def mixed_command(name, params, deskew, out, without):
     """The command of a mixed front end: its launch file, and for mix-stock-less-sharp with labels
