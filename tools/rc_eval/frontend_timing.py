@@ -10,6 +10,7 @@ its odometry (A-LOAM's back end does not run)."""
 import os
 import re
 import statistics
+import threading
 import time
 
 from rc_eval.slam_frontends import SWEEP_S, cpu_ns, frontend_pids
@@ -19,10 +20,14 @@ OUTPUTS = ("/velodyne_cloud_2", "/laser_cloud_sharp", "/laser_cloud_less_sharp",
 WARM_UP = 2  # frames not counted: buffers grow, caches fill
 
 
-def commands(deskew, params):
+def commands(deskew, params, stub=False):
     """Stock ascanRegistration and ours (launch/aloam_frontend.launch) on inputs of their own; both
-    publish on A-LOAM's five topics (one at a time)."""
+    publish on A-LOAM's five topics (one at a time). With stub, "ours" is a second stock
+    ascanRegistration: the null test of the measurement (ratios near 1)."""
     stock = ["rosrun", "aloam_velodyne", "ascanRegistration", "/velodyne_points:=/side_by_side/stock_points"]
+    if stub:
+        return stock, ["rosrun", "aloam_velodyne", "ascanRegistration", "/velodyne_points:=/side_by_side/ours_points",
+                       "__name:=ours_stub"]
     ours = ["roslaunch", "--wait", "ring_curvature", "aloam_frontend.launch", "input:=/side_by_side/ours_points",
             "deskew_odometry:=/side_by_side/odometry"]
     ours += ["deskew:=true"] if deskew else ["deskew:=false"]
@@ -37,13 +42,21 @@ class Arrivals:
         import rospy
         from sensor_msgs.msg import PointCloud2
         self.seen = {"stock": {}, "ours": {}}  # front end -> topic -> last stamp
+        self.changed = threading.Condition()  # waited on, not polled: the cores stay the front ends'
         self.subs = [rospy.Subscriber(t, PointCloud2, self._cloud, t, queue_size=10, buff_size=1 << 26)
                      for t in OUTPUTS]
 
     def _cloud(self, msg, topic):
         node = msg._connection_header.get("callerid", "")
-        fe = "stock" if node.endswith("scanRegistration") else "ours"
-        self.seen[fe][topic] = msg.header.stamp.to_sec()
+        fe = "stock" if node.endswith("/scanRegistration") else "ours"
+        with self.changed:
+            self.seen[fe][topic] = msg.header.stamp.to_sec()
+            self.changed.notify_all()
+
+    def wait(self, fe, s, timeout):
+        """Until all five outputs of the frame stamped s have arrived from fe; False on timeout."""
+        with self.changed:
+            return self.changed.wait_for(lambda: self.complete(fe, s), timeout)
 
     def complete(self, fe, s):
         """All five outputs of the frame stamped s (ours may stamp up to a sweep later)."""
@@ -69,16 +82,16 @@ def odometry(row, frame_id="camera_init"):
     return m
 
 
-def run(seq, bag, gt, deskew, procs, a, stats_recorder):
+def run(seq, bag, gt, deskew, procs, a, stats_recorder, stub=False):
     """One sequence side by side; the row of its figures."""
     import rosbag
     import rospy
     from nav_msgs.msg import Odometry
     from sensor_msgs.msg import PointCloud2
 
-    row = {"sequence": seq, "frontend": "side-by-side", "frames": 0}
+    row = {"sequence": seq, "frontend": "side-by-side(stub)" if stub else "side-by-side", "frames": 0}
     stats_recorder.reset()
-    stock_cmd, ours_cmd = commands(deskew, a.ours_params)
+    stock_cmd, ours_cmd = commands(deskew, a.ours_params, stub)
     fe = {"stock": procs.start("%s_side_by_side_stock" % seq, stock_cmd),
           "ours": procs.start("%s_side_by_side_ours" % seq, ours_cmd)}
     pubs = {k: rospy.Publisher("/side_by_side/%s_points" % k, PointCloud2, queue_size=2) for k in fe}
@@ -88,7 +101,7 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder):
     try:
         def ready():
             return (all(p.get_num_connections() > 0 for p in pubs.values())
-                    and (not deskew or odom.get_num_connections() > 0)
+                    and (not deskew or stub or odom.get_num_connections() > 0)
                     and all(sub.get_num_connections() > 1 for sub in arrivals.subs))  # both publishers
         end = time.time() + 60.0
         while not ready():
@@ -100,7 +113,7 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder):
         stats_recorder.watch_frame_stats()
         time.sleep(0.3)
         pids = {"stock": frontend_pids(fe["stock"].pid, "stock", False),
-                "ours": frontend_pids(fe["ours"].pid, "ours", False)}
+                "ours": frontend_pids(fe["ours"].pid, "ours", stub)}
         with rosbag.Bag(bag) as b:
             for k, (_, msg, _) in enumerate(b.read_messages(topics=["/velodyne_points"])):
                 if a.max_frames and row["frames"] >= a.max_frames:
@@ -113,10 +126,7 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder):
                 for name in order:
                     c0 = cpu_ns(pids[name])
                     pubs[name].publish(msg)
-                    deadline = time.time() + a.timeout
-                    while not arrivals.complete(name, s) and time.time() < deadline:
-                        time.sleep(0.0005)
-                    if not arrivals.complete(name, s):
+                    if not arrivals.wait(name, s, a.timeout):
                         row["error"] = "%s gave no outputs of frame %d within %.0f s" % (name, k, a.timeout)
                         return row
                     cpu[name].append((cpu_ns(pids[name]) - c0) / 1e6)
@@ -126,7 +136,8 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder):
         stats_recorder.drop_stats()
         procs.stop(keep=1)  # the roscore stays
     stock_cb = printed_times(os.path.join(a.out, "logs", "%s_side_by_side_stock.log" % seq))
-    ours_cb = [v for _, v in sorted(stats_recorder.callback_ms.items())]
+    ours_cb = (printed_times(os.path.join(a.out, "logs", "%s_side_by_side_ours.log" % seq)) if stub
+               else [v for _, v in sorted(stats_recorder.callback_ms.items())])
     return summarize(row, cpu, stock_cb, ours_cb)
 
 
