@@ -13,26 +13,21 @@ import statistics
 import threading
 import time
 
-from rc_eval.slam_frontends import SWEEP_S, cpu_ns, frontend_pids
+from rc_eval.slam_frontends import SWEEP_S, cpu_ns, frontend_command, frontend_pids
 
 OUTPUTS = ("/velodyne_cloud_2", "/laser_cloud_sharp", "/laser_cloud_less_sharp", "/laser_cloud_flat",
            "/laser_cloud_less_flat")
 WARM_UP = 2  # frames not counted: buffers grow, caches fill
 
 
-def commands(deskew, params, stub=False):
+def commands(deskew, params, reference, stub=False):
     """Stock ascanRegistration and ours (launch/aloam_frontend.launch) on inputs of their own; both
     publish on A-LOAM's five topics (one at a time). With stub, "ours" is a second stock
     ascanRegistration: the null test of the measurement (ratios near 1)."""
-    stock = ["rosrun", "aloam_velodyne", "ascanRegistration", "/velodyne_points:=/side_by_side/stock_points"]
-    if stub:
-        return stock, ["rosrun", "aloam_velodyne", "ascanRegistration", "/velodyne_points:=/side_by_side/ours_points",
-                       "__name:=ours_stub"]
-    ours = ["roslaunch", "--wait", "ring_curvature", "aloam_frontend.launch", "input:=/side_by_side/ours_points",
-            "deskew_odometry:=/side_by_side/odometry"]
-    ours += ["deskew:=true"] if deskew else ["deskew:=false"]
-    ours += ["params:=" + os.path.abspath(params)] if params else []
-    return stock, ours
+    stock = frontend_command("stock", False, input_topic="/side_by_side/stock_points")
+    ours = frontend_command("ours", stub, params, deskew, reference=reference, input_topic="/side_by_side/ours_points",
+                            odometry="/side_by_side/odometry")
+    return stock, ours + (["__name:=ours_stub"] if stub else [])
 
 
 class Arrivals:
@@ -91,7 +86,7 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder, stub=False):
 
     row = {"sequence": seq, "frontend": "side-by-side(stub)" if stub else "side-by-side", "frames": 0}
     stats_recorder.reset()
-    stock_cmd, ours_cmd = commands(deskew, a.ours_params, stub)
+    stock_cmd, ours_cmd = commands(deskew, a.ours_params, a.deskew_reference, stub)
     fe = {"stock": procs.start("%s_side_by_side_stock" % seq, stock_cmd),
           "ours": procs.start("%s_side_by_side_ours" % seq, ours_cmd)}
     pubs = {k: rospy.Publisher("/side_by_side/%s_points" % k, PointCloud2, queue_size=2) for k in fe}
