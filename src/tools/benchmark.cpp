@@ -1,8 +1,10 @@
 // rosrun ring_curvature benchmark --bag IN.bag [--repeat N] [--baselines] [--baseline-repeat M]
-//                                 [--topic T] [--euclid-tolerance METRES]
+//                                 [--topic T] [--euclid-tolerance METRES] [--params FILE.yaml]
 // Times every stage of the core pipeline over every PointCloud2 frame of a bag, N times, and with
 // --baselines also PCL's PCA curvature (k = 10) and Euclidean clustering on the same frames in the
-// same process. Prints a table of medians; the LAST line is machine-readable key=value pairs:
+// same process. --params: the core's parameters from a flat 'key: value' file (the keys of
+// config/ring_curvature.yaml, as process_bag takes them), defaults otherwise. Prints a table of
+// medians; the LAST line is machine-readable key=value pairs:
 //   frames=… points=… pipeline_ms=… pca_curv_ms=… euclid_ms=… speedup_pca=… loam_ms=…
 // (loam_ms: the LOAM feature sets of the SLAM front end, selected after the pipeline, not in it)
 #include <sensor_msgs/PointCloud2.h>
@@ -23,6 +25,7 @@
 #include "baselines/pca_curvature.hpp"
 #include "ring_curvature/pipeline.hpp"
 #include "ring_curvature/ros/cloud_adapter.hpp"
+#include "ring_curvature/ros/param_loading.hpp"
 
 namespace rc = ring_curvature;
 using Clock = std::chrono::steady_clock;
@@ -38,12 +41,14 @@ struct Options
   int baseline_repeat = 3;  // PCL is ~50x slower: fewer passes keep the run short
   bool baselines = false;
   float euclid_tolerance = rc::baselines::EuclideanClusteringParams().tolerance;
+  std::string params_file;  // empty: the defaults
+  rc::Params params;
 };
 
 void usage()
 {
   std::cerr << "usage: benchmark --bag IN.bag [--repeat N] [--baselines] [--baseline-repeat M]"
-               " [--topic T] [--euclid-tolerance M]\n";
+               " [--topic T] [--euclid-tolerance M] [--params FILE.yaml]\n";
 }
 
 bool parseArgs(int argc, char** argv, Options& o)
@@ -68,6 +73,14 @@ bool parseArgs(int argc, char** argv, Options& o)
       continue;
     if (a == "--euclid-tolerance" && value(v) && (o.euclid_tolerance = std::strtof(v.c_str(), nullptr)) > 0)
       continue;
+    if (a == "--params" && value(o.params_file))
+    {
+      const rc::Status st = rc::loadParamsFile(o.params_file, o.params);
+      if (st)
+        continue;
+      std::cerr << "benchmark: " << st.message << "\n";
+      return false;
+    }
     if (a == "--baselines")
     {
       o.baselines = true;
@@ -129,7 +142,7 @@ bool makeViews(const Options& opt, const std::vector<sensor_msgs::PointCloud2::C
   {
     rc::PointCloudView v;
     // the nodelet's own adapter: the benchmark reads clouds exactly as the nodelet does
-    const rc::Status st = rc::makeView(*c, rc::Params(), v);
+    const rc::Status st = rc::makeView(*c, opt.params, v);
     if (!st)
     {
       std::cerr << "benchmark: skipping a frame: " << st.message << "\n";
@@ -246,6 +259,7 @@ void printHeader(const Options& opt, std::size_t frames, double mean_points, con
                     : "";
   std::printf("  %zu frames, %.0f points/frame (mean), repeat %d (+1 warm-up)%s\n", frames, mean_points, opt.repeat,
               baselines_note.c_str());
+  std::printf("  params: %s\n", opt.params_file.empty() ? "defaults" : opt.params_file.c_str());
   const double nf = static_cast<double>(frames);
   auto perFrame = [nf](std::size_t c) { return static_cast<double>(c) / nf; };
   std::printf("  labels/frame: plane %.0f, edge %.0f, corner %.0f, rough %.0f, none %.0f; primitives/frame %.1f\n",
@@ -298,7 +312,7 @@ int main(int argc, char** argv)
   const double mean_points = static_cast<double>(total_points) / static_cast<double>(views.size());
 
   // one pipeline for both: the LOAM passes start from the caches the timed passes left
-  rc::Pipeline pipeline;
+  rc::Pipeline pipeline(opt.params);
   rc::FrameResult result;
   Timings t;
   if (!timePipeline(opt, views, pipeline, result, t))
