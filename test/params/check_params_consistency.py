@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Defaults must agree between the three places a user meets them: the core's Params struct
 (include/ring_curvature/params.hpp, the single source of truth), the dynamic_reconfigure
-definition (cfg/RingCurvature.cfg) and the documented parameter file (config/ring_curvature.yaml).
-Prints one line per check and ends with "N passed, N failed"."""
+definition (cfg/RingCurvature.cfg), the documented parameter file (config/ring_curvature.yaml)
+and the README's parameter reference (a row per field, with its default). Prints one line per check and ends with "N passed, N failed"."""
 import re
 import sys
 from pathlib import Path
@@ -11,6 +11,7 @@ root = Path(__file__).resolve().parents[2]
 hpp = (root / "include/ring_curvature/params.hpp").read_text()
 cfg = (root / "cfg/RingCurvature.cfg").read_text()
 yaml_text = (root / "config/ring_curvature.yaml").read_text()
+readme = (root / "README.md").read_text()
 
 enums = {}  # enum type -> {member: value}
 for m in re.finditer(r"enum class (\w+) : int\s*\{(.*?)\};", hpp, re.S):
@@ -78,6 +79,31 @@ for name, (typ, want) in params.items():
         got = float(v)
     ok = abs(got - want) < 1e-6 if isinstance(want, float) else got == want
     check(ok and bool(comment), f"yaml '{name}: {v}' equals Params ({params[name][1]}) and has a comment")
+
+def same(text, typ, want):
+    """Whether a default as written (yaml value, README cell) equals the Params default."""
+    text = text.strip("'\"")
+    if typ == "bool":
+        return text.lower() == str(want).lower()
+    if typ in enums:
+        return text == want.lower()
+    if typ == "std::string":
+        return text == want
+    try:
+        return abs(float(text) - float(want)) < 1e-6
+    except ValueError:
+        return False
+
+
+# README: the "Parameter reference" table, | `key` | `default` | meaning |
+section = readme[readme.index("### Parameter reference"):]
+section = section[:section.index("\n## ")]
+rows = dict(re.findall(r"^\| `(\w+)` \| `([^`]*)` \|", section, re.M))
+for name, (typ, want) in params.items():
+    if name not in rows:
+        check(False, f"Params field '{name}' missing from the README's parameter reference")
+        continue
+    check(same(rows[name], typ, want), f"README default of '{name}' ({rows[name]}) equals Params ({want})")
 
 passed = sum(results)
 print(f"{passed} passed, {len(results) - passed} failed")
