@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Defaults must agree between the three places a user meets them: the core's Params struct
+"""Defaults must agree between the four places a user meets them: the core's Params struct
 (include/ring_curvature/params.hpp, the single source of truth), the dynamic_reconfigure
 definition (cfg/RingCurvature.cfg), the documented parameter file (config/ring_curvature.yaml)
-and the README's parameter reference (a row per field, with its default). Prints one line per check and ends with "N passed, N failed"."""
+and the README's parameter reference (a row per field, with its default). Prints one line per
+check and ends with "N passed, N failed"."""
 import re
 import sys
 from pathlib import Path
@@ -55,31 +56,6 @@ for name, default in re.findall(r'gen\.add\("(\w+)",\s*\w+,\s*\d+,\s*"[^"]*",\s*
     check(got == want if not isinstance(want, float) else abs(got - want) < 1e-9,
           f"cfg default of '{name}' ({d}) equals Params ({params[name][1]})")
 
-# yaml: key: value  # comment ; every Params field documented with its default
-yaml = {}
-for line in yaml_text.splitlines():
-    m = re.match(r"^(\w+):\s*([^#\s]+)\s*(#.*)?$", line)
-    if m:
-        yaml[m.group(1)] = (m.group(2), m.group(3))
-for name, (typ, want) in params.items():
-    if name not in yaml:
-        check(False, f"Params field '{name}' missing from config/ring_curvature.yaml")
-        continue
-    v, comment = yaml[name]
-    if typ == "bool":
-        got = v.lower() == "true"
-    elif typ == "std::string":
-        got = v.strip("'\"")
-    elif typ in enums:
-        got = v.strip("'\"")
-        want = want.lower()
-    elif typ == "int":
-        got = int(v)
-    else:
-        got = float(v)
-    ok = abs(got - want) < 1e-6 if isinstance(want, float) else got == want
-    check(ok and bool(comment), f"yaml '{name}: {v}' equals Params ({params[name][1]}) and has a comment")
-
 def same(text, typ, want):
     """Whether a default as written (yaml value, README cell) equals the Params default."""
     text = text.strip("'\"")
@@ -94,6 +70,20 @@ def same(text, typ, want):
     except ValueError:
         return False
 
+
+# yaml: key: value  # comment ; every Params field documented with its default
+yaml = {}
+for line in yaml_text.splitlines():
+    m = re.match(r"^(\w+):\s*([^#\s]+)\s*(#.*)?$", line)
+    if m:
+        yaml[m.group(1)] = (m.group(2), m.group(3))
+for name, (typ, want) in params.items():
+    if name not in yaml:
+        check(False, f"Params field '{name}' missing from config/ring_curvature.yaml")
+        continue
+    v, comment = yaml[name]
+    ok = same(v, typ, want)
+    check(ok and bool(comment), f"yaml '{name}: {v}' equals Params ({params[name][1]}) and has a comment")
 
 # README: the "Parameter reference" table, | `key` | `default` | meaning |
 section = readme[readme.index("### Parameter reference"):]
