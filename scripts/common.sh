@@ -27,3 +27,9 @@ rc_source_ws() {
   # setup.bash reads unset variables; relax nounset while sourcing it
   set +u; source "$WS/devel/setup.bash"; set -u
 }
+# For the suites in scripts/test.d: runs a check (its name, then a command that must succeed),
+# prints "ok" or "FAIL" with the name and counts it in the caller's $passed / $failed.
+rc_check() {
+  local name=$1; shift
+  if "$@"; then passed=$((passed + 1)); echo "ok    $name"; else failed=$((failed + 1)); echo "FAIL  $name"; fi
+}
