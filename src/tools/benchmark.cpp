@@ -12,6 +12,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -167,7 +168,18 @@ struct Timings
   std::vector<double> pca, euclid;
   std::size_t primitive_count = 0;
   std::array<std::size_t, rc::kNumLabels> counts{};
+  std::uint64_t loam_digest = 1469598103934665603ull;  // FNV-1a offset basis
 };
+
+// FNV-1a over the bytes of v: the LOAM sets and sweep times of the last pass, so that two builds
+// (a restructured selection against the old one) can be shown to choose the same points.
+template <typename T>
+void digest(std::uint64_t& h, const std::vector<T>& v)
+{
+  const auto* b = reinterpret_cast<const unsigned char*>(v.data());
+  for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) h = (h ^ b[i]) * 1099511628211ull;
+  h = (h ^ v.size()) * 1099511628211ull;
+}
 
 // Our pipeline: one untimed warm-up pass (buffers grow to size), then `repeat` passes.
 bool timePipeline(const Options& opt, const std::vector<rc::PointCloudView>& views, rc::Pipeline& pipeline,
@@ -222,6 +234,9 @@ void timeLoam(const Options& opt, const std::vector<rc::PointCloudView>& views, 
       const auto tl = Clock::now();
       pipeline.selectLoamFeatures(v, loam);
       t.loam.push_back(msSince(tl));
+      if (r + 1 == opt.repeat)
+        for (const auto* set : {&loam.sharp, &loam.less_sharp, &loam.flat, &loam.less_flat}) digest(t.loam_digest, *set);
+      if (r + 1 == opt.repeat) digest(t.loam_digest, loam.sweep_time);
     }
   }
 }
@@ -280,6 +295,8 @@ void printTimes(const Options& opt, std::size_t frames, double mean_points, cons
   printRow("sum of stages", t.stage_sum);
   printRow("pipeline (wall)", t.wall);
   printRow("LOAM sets", t.loam);
+  std::printf("  LOAM sets digest (FNV-1a of the sets and sweep times): %016llx\n",
+              static_cast<unsigned long long>(t.loam_digest));
   const double pipeline_ms = rc::bench::median(t.wall);
   double pca_ms = std::nan(""), euclid_ms = std::nan(""), speedup = std::nan("");
   if (opt.baselines)
