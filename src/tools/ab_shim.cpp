@@ -3,6 +3,7 @@
 // build that lacks libring_curvature_ab_shim.so), so the Pipeline and FrameResult it allocates
 // have that build's layout, whatever the other build's is.
 #include "ab_shim.h"
+#include "fnv_hash.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -33,50 +34,31 @@ rc::FieldView toField(const RcAbField& f)
   return v;
 }
 
-// FNV-1a over bytes: a fingerprint of the outputs, so that ab_core can tell whether both builds
-// computed the same thing (an A/B timing of two builds with different outputs compares
-// different work).
-void hashBytes(std::uint64_t& h, const void* data, std::size_t n)
-{
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    h ^= p[i];
-    h *= 1099511628211ull;
-  }
-}
-
-template <typename T>
-void hashVector(std::uint64_t& h, const std::vector<T>& v)
-{
-  hashBytes(h, v.data(), v.size() * sizeof(T));
-}
-
 std::uint64_t outputHash(const rc::FrameResult& r)
 {
-  std::uint64_t h = 14695981039346656037ull;
-  hashVector(h, r.label);
-  hashVector(h, r.curvature);
-  hashVector(h, r.smoothness);
-  hashVector(h, r.discontinuity);
-  hashVector(h, r.primitive);
+  std::uint64_t h = rc::bench::kFnvOffsetBasis;
+  rc::bench::hashVector(h, r.label);
+  rc::bench::hashVector(h, r.curvature);
+  rc::bench::hashVector(h, r.smoothness);
+  rc::bench::hashVector(h, r.discontinuity);
+  rc::bench::hashVector(h, r.primitive);
   const std::uint64_t n = r.primitives.primitives.size();
-  hashBytes(h, &n, sizeof n);
+  rc::bench::hashBytes(h, &n, sizeof n);
   // every field of every primitive, one by one (a struct's padding bytes are not its value)
   for (const rc::PrimitiveInfo& p : r.primitives.primitives)
   {
-    hashBytes(h, &p.id, sizeof p.id);
-    hashBytes(h, &p.label, sizeof p.label);
-    hashBytes(h, &p.num_points, sizeof p.num_points);
-    hashBytes(h, &p.first, sizeof p.first);
+    rc::bench::hashBytes(h, &p.id, sizeof p.id);
+    rc::bench::hashBytes(h, &p.label, sizeof p.label);
+    rc::bench::hashBytes(h, &p.num_points, sizeof p.num_points);
+    rc::bench::hashBytes(h, &p.first, sizeof p.first);
     for (const Eigen::Vector3f* v : {&p.centroid, &p.axis, &p.eigenvalues, &p.bbox_min, &p.bbox_max})
-      hashBytes(h, v->data(), 3 * sizeof(float));
-    hashBytes(h, &p.rms_error, sizeof p.rms_error);
-    hashBytes(h, &p.ring_min, sizeof p.ring_min);
-    hashBytes(h, &p.ring_max, sizeof p.ring_max);
+      rc::bench::hashBytes(h, v->data(), 3 * sizeof(float));
+    rc::bench::hashBytes(h, &p.rms_error, sizeof p.rms_error);
+    rc::bench::hashBytes(h, &p.ring_min, sizeof p.ring_min);
+    rc::bench::hashBytes(h, &p.ring_max, sizeof p.ring_max);
   }
-  hashVector(h, r.primitives.indices);
-  hashVector(h, r.primitives.of_grid);
+  rc::bench::hashVector(h, r.primitives.indices);
+  rc::bench::hashVector(h, r.primitives.of_grid);
   return h;
 }
 

@@ -22,6 +22,7 @@
 
 #include "bag_clouds.hpp"
 #include "bench_stats.hpp"
+#include "fnv_hash.hpp"
 #include "baselines/euclidean_clustering.hpp"
 #include "baselines/pca_curvature.hpp"
 #include "ring_curvature/pipeline.hpp"
@@ -168,18 +169,10 @@ struct Timings
   std::vector<double> pca, euclid;
   std::size_t primitive_count = 0;
   std::array<std::size_t, rc::kNumLabels> counts{};
-  std::uint64_t loam_digest = 1469598103934665603ull;  // FNV-1a offset basis
+  // the LOAM sets and sweep times of the last pass, so that two builds (a restructured selection
+  // against the old one) can be shown to choose the same points
+  std::uint64_t loam_digest = rc::bench::kFnvOffsetBasis;
 };
-
-// FNV-1a over the bytes of v: the LOAM sets and sweep times of the last pass, so that two builds
-// (a restructured selection against the old one) can be shown to choose the same points.
-template <typename T>
-void digest(std::uint64_t& h, const std::vector<T>& v)
-{
-  const auto* b = reinterpret_cast<const unsigned char*>(v.data());
-  for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) h = (h ^ b[i]) * 1099511628211ull;
-  h = (h ^ v.size()) * 1099511628211ull;
-}
 
 // Our pipeline: one untimed warm-up pass (buffers grow to size), then `repeat` passes.
 bool timePipeline(const Options& opt, const std::vector<rc::PointCloudView>& views, rc::Pipeline& pipeline,
@@ -234,9 +227,14 @@ void timeLoam(const Options& opt, const std::vector<rc::PointCloudView>& views, 
       const auto tl = Clock::now();
       pipeline.selectLoamFeatures(v, loam);
       t.loam.push_back(msSince(tl));
-      if (r + 1 == opt.repeat)
-        for (const auto* set : {&loam.sharp, &loam.less_sharp, &loam.flat, &loam.less_flat}) digest(t.loam_digest, *set);
-      if (r + 1 == opt.repeat) digest(t.loam_digest, loam.sweep_time);
+      if (r + 1 < opt.repeat) continue;
+      for (const auto* set : {&loam.sharp, &loam.less_sharp, &loam.flat, &loam.less_flat})
+      {
+        const std::uint64_t n = set->size();  // (where one set ends and the next begins)
+        rc::bench::hashBytes(t.loam_digest, &n, sizeof n);
+        rc::bench::hashVector(t.loam_digest, *set);
+      }
+      rc::bench::hashVector(t.loam_digest, loam.sweep_time);
     }
   }
 }
