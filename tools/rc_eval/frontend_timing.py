@@ -8,11 +8,16 @@ output's arrival), and its own callback time (ascanRegistration's printed TicToc
 ~frame_stats callback_ms). Ours deskews as in the benchmark, here with the ground-truth poses as
 its odometry (A-LOAM's back end does not run). A sequence shorter than MIN_FRAMES (KITTI's 16) is
 played again, its stamps moved on by its length each pass, until that many frames are timed: the
-per-frame ratios of 14 frames spread too widely to tell 0.5 from 0.55."""
+per-frame ratios of 14 frames spread too widely to tell 0.5 from 0.55.
+With --callgrind both run under valgrind's callgrind, which counts the instructions each one's
+callback executes (ascanRegistration's laserCloudHandler, ours' cloudCb, each with all it calls,
+publishing included): a measure of the work that does not depend on the machine or its load."""
 import copy
+import glob
 import os
 import re
 import statistics
+import subprocess
 import threading
 import time
 
@@ -24,13 +29,65 @@ WARM_UP = 2  # frames not counted: buffers grow, caches fill
 MIN_FRAMES = 100  # frames timed per sequence at least (a shorter one is played again)
 
 
-def commands(deskew, params, reference, stub=False):
+# The callbacks whose instructions --callgrind counts (valgrind --toggle-collect patterns).
+CALLBACKS = {"stock": "laserCloudHandler*", "ours": "ring_curvature::RingCurvatureNodelet::cloudCb*"}
+
+
+def callgrind_prefix(side, binary, out_dir):
+    """valgrind's command line for the front end on `side` running `binary` ("stock" or "ours")."""
+    return ("valgrind --tool=callgrind --dump-instr=no --toggle-collect=%s --callgrind-out-file=%s/%s.%%p"
+            % (CALLBACKS[binary], out_dir, side))
+
+
+def end_callgrind_runs(out_dir):
+    """Kills what still runs under callgrind into out_dir (the counts are dumped by then): the
+    nodelet manager outlives roslaunch's stop under valgrind, and would meet the next sequence's."""
+    mark = ("--callgrind-out-file=" + out_dir + "/").encode()
+    for _ in range(50):
+        left = []
+        for d in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                with open("/proc/%s/cmdline" % d, "rb") as f:
+                    if mark in f.read():
+                        left.append(int(d))
+            except OSError:
+                pass
+        if not left:
+            return
+        for pid in left:
+            try:
+                os.kill(pid, 9)
+            except ProcessLookupError:
+                pass
+        time.sleep(0.2)
+
+
+def instruction_counts(out_dir, frames):
+    """Each side's instructions per frame in its callback: every callgrind run dumps its counts
+    (callgrind_control -d), which are summed per side. NaN for a side without counts."""
+    subprocess.run(["callgrind_control", "-d"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
+    counts = {}
+    for side in ("stock", "ours"):
+        files, end = [], time.time() + 60.0
+        while not files and time.time() < end:  # (the dump is written by the front end's process)
+            time.sleep(0.5)
+            files = glob.glob(os.path.join(out_dir, side + ".*.*"))
+        total = 0
+        for f in files:
+            total += sum(int(m) for m in re.findall(r"^totals: ([0-9]+)", open(f).read(), re.M))
+        counts["ir_" + side] = total / frames if files and frames else float("nan")
+    return counts
+
+
+def commands(deskew, params, reference, stub=False, callgrind=None):
     """Stock ascanRegistration and ours (launch/aloam_frontend.launch) on inputs of their own; both
     publish on A-LOAM's five topics (one at a time). With stub, "ours" is a second stock
-    ascanRegistration: the null test of the measurement (ratios near 1)."""
-    stock = frontend_command("stock", False, input_topic="/side_by_side/stock_points")
+    ascanRegistration: the null test of the measurement (ratios near 1). callgrind: a folder for
+    the counts, both then run under callgrind."""
+    prefix = {k: callgrind_prefix(k, "stock" if stub else k, callgrind) if callgrind else None for k in ("stock", "ours")}
+    stock = frontend_command("stock", False, input_topic="/side_by_side/stock_points", prefix=prefix["stock"])
     ours = frontend_command("ours", stub, params, deskew, reference=reference, input_topic="/side_by_side/ours_points",
-                            odometry="/side_by_side/odometry")
+                            odometry="/side_by_side/odometry", prefix=prefix["ours"])
     return stock, ours + (["__name:=ours_stub"] if stub else [])
 
 
@@ -90,7 +147,12 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder, stub=False):
 
     row = {"sequence": seq, "frontend": "side-by-side(stub)" if stub else "side-by-side", "frames": 0}
     stats_recorder.reset()
-    stock_cmd, ours_cmd = commands(deskew, a.ours_params, a.deskew_reference, stub)
+    cg_dir = os.path.join(a.out, "callgrind", seq) if a.callgrind else None
+    if cg_dir:
+        os.makedirs(cg_dir, exist_ok=True)
+        for f in glob.glob(os.path.join(cg_dir, "*")):
+            os.remove(f)
+    stock_cmd, ours_cmd = commands(deskew, a.ours_params, a.deskew_reference, stub, cg_dir)
     fe = {"stock": procs.start("%s_side_by_side_stock" % seq, stock_cmd),
           "ours": procs.start("%s_side_by_side_ours" % seq, ours_cmd)}
     pubs = {k: rospy.Publisher("/side_by_side/%s_points" % k, PointCloud2, queue_size=2) for k in fe}
@@ -102,7 +164,8 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder, stub=False):
             return (all(p.get_num_connections() > 0 for p in pubs.values())
                     and (not deskew or stub or odom.get_num_connections() > 0)
                     and all(sub.get_num_connections() > 1 for sub in arrivals.subs))  # both publishers
-        end = time.time() + 60.0
+        end = time.time() + (300.0 if cg_dir else 60.0)  # (under valgrind, start-up takes a while)
+        timeout = max(a.timeout, 120.0) if cg_dir else a.timeout
         while not ready():
             if time.time() > end or any(p.poll() is not None for p in fe.values()):
                 row["error"] = "front ends did not come up (logs in %s)" % a.out
@@ -132,15 +195,19 @@ def run(seq, bag, gt, deskew, procs, a, stats_recorder, stub=False):
             for name in order:
                 c0 = cpu_ns(pids[name])
                 pubs[name].publish(msg)
-                if not arrivals.wait(name, s, a.timeout):
-                    row["error"] = "%s gave no outputs of frame %d within %.0f s" % (name, k, a.timeout)
+                if not arrivals.wait(name, s, timeout):
+                    row["error"] = "%s gave no outputs of frame %d within %.0f s" % (name, k, timeout)
                     return row
                 cpu[name].append((cpu_ns(pids[name]) - c0) / 1e6)
             row["frames"] += 1
+        if cg_dir:
+            row.update(instruction_counts(cg_dir, row["frames"]))
     finally:
         arrivals.close()
         stats_recorder.drop_stats()
         procs.stop(keep=1)  # the roscore stays
+        if cg_dir:
+            end_callgrind_runs(cg_dir)
     stock_cb = printed_times(os.path.join(a.out, "logs", "%s_side_by_side_stock.log" % seq))
     ours_cb = (printed_times(os.path.join(a.out, "logs", "%s_side_by_side_ours.log" % seq)) if stub
                else [v for _, v in sorted(stats_recorder.callback_ms.items())])
@@ -175,6 +242,18 @@ def summarize(row, cpu, stock_cb, ours_cb):
 
 
 def print_rows(rows):
+    counted = [r for r in rows if "ir_ours" in r and not r.get("error")]
+    if counted:  # (--callgrind: times under valgrind say nothing)
+        print("%-14s %6s  %12s %12s  %s" % ("sequence", "frames", "stock [M]", "ours [M]", "ours/stock"))
+        for r in rows:
+            if r.get("error"):
+                print("%-14s %6d  %s" % (r["sequence"], r["frames"], r["error"]))
+                continue
+            print("%-14s %6d  %12.1f %12.1f  %.3f" % (r["sequence"], r["frames"], r["ir_stock"] / 1e6,
+                                                     r["ir_ours"] / 1e6, r["ir_ours"] / r["ir_stock"]))
+        print("instructions per frame executed in each front end's callback, publishing included (callgrind; "
+              "every frame,\nthe first ones too).")
+        return
     print("%-14s %6s  %9s %9s  %-20s  %9s %9s  %-20s" % ("sequence", "frames", "stock cpu", "ours cpu",
                                                          "ours/stock [p10-p90]", "stock cb", "ours cb",
                                                          "ours/stock [p10-p90]"))

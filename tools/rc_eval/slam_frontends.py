@@ -66,17 +66,20 @@ def mixed_launch(ours_sets, params, deskew, out, without=()):
 
 
 def frontend_command(name, stub, params=None, deskew=True, out=".", without=(), reference="middle",
-                     input_topic="/velodyne_points", odometry=None):
+                     input_topic="/velodyne_points", odometry=None, prefix=None):
     """The front end's command line. "ours" is ring_curvature's A-LOAM front end; this is the one
     place to change if launch/aloam_frontend.launch's arguments change. With stub (development
     only) "ours" runs stock ascanRegistration through the same code path. deskew: with A-LOAM's
     mapped pose (the launch's default; or the `odometry` topic), to the sweep's middle or its
-    stamp (reference); off for scans the dataset has motion-compensated."""
+    stamp (reference); off for scans the dataset has motion-compensated. prefix: a command line the
+    front end's process runs under (valgrind ...): ascanRegistration's, or ours' nodelet manager's."""
     if name in MIXED:
         return mixed_command(name, params, deskew, out, without)
     if name == "stock" or stub:
-        return ["rosrun", "aloam_velodyne", "ascanRegistration", "/velodyne_points:=" + input_topic]
+        return (["rosrun"] + (["--prefix", prefix] if prefix else [])
+                + ["aloam_velodyne", "ascanRegistration", "/velodyne_points:=" + input_topic])
     cmd = ["roslaunch", "--wait", "ring_curvature", "aloam_frontend.launch", "input:=" + input_topic]
+    cmd += ["launch_prefix:=" + prefix] if prefix else []
     cmd += ["deskew_reference:=" + reference] if deskew else ["deskew:=false"]
     cmd += ["deskew_odometry:=" + odometry] if deskew and odometry else []
     return cmd + (["params:=" + os.path.abspath(params)] if params else [])
