@@ -249,8 +249,9 @@ def print_rows(rows):
             if r.get("error"):
                 print("%-14s %6d  %s" % (r["sequence"], r["frames"], r["error"]))
                 continue
+            ratio = r["ir_ours"] / r["ir_stock"] if r["ir_stock"] > 0 else float("nan")  # (0: nothing counted)
             print("%-14s %6d  %12.1f %12.1f  %.3f" % (r["sequence"], r["frames"], r["ir_stock"] / 1e6,
-                                                     r["ir_ours"] / 1e6, r["ir_ours"] / r["ir_stock"]))
+                                                     r["ir_ours"] / 1e6, ratio))
         print("instructions per frame executed in each front end's callback, publishing included (callgrind; "
               "every frame,\nthe first ones too).")
         return
